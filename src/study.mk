@@ -1,0 +1,1 @@
+# src/study.mk: fragment owned by one module

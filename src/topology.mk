@@ -1,0 +1,1 @@
+# src/topology.mk: fragment owned by one module

@@ -1,0 +1,1 @@
+# tests/cont.mk: fragment owned by one module

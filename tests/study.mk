@@ -1,0 +1,1 @@
+# tests/study.mk: fragment owned by one module

@@ -1,0 +1,1 @@
+# tests/topology.mk: fragment owned by one module
