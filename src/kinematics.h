@@ -42,11 +42,6 @@ typedef struct sf_kin {
     double *xi2;               /* [nfolds][maxqn][maxqn][12]: d2T T^-1, local */
     /* per face: global rigid map */
     double *X;                 /* [nfaces][12] */
-    /* per fold coordinate, spatial (global) twist Ad(X_right) xi */
-    double *S;                 /* [nq][6] */
-    /* per fold, spatial second-order maps for crossings with sign +1 and
-     * -1: X_R M X_R^-1 with M = xi2 or (Xi_j Xi_k + Xi_k Xi_j - xi2) */
-    double *Qp, *Qm;           /* [nfolds][maxqn][maxqn][12] */
 } sf_kin;
 
 /* A material point of the sheet, located once. */

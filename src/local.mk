@@ -6,3 +6,7 @@ src_smoothfold_SOURCES = src/main.c
 src_smoothfold_LDADD = src/libsmoothfold.a continuation/libcont.a $(LDADD_COMMON)
 include src/topology.mk
 include src/study.mk
+src_libsmoothfold_a_SOURCES += src/shape.c src/shape.h src/kinematics.c src/kinematics.h src/topology.h
+src_libsmoothfold_a_SOURCES += src/vtk.c src/vtk.h src/scene.c src/scene.h
+src_smoothfold_SOURCES += src/commands.c src/commands.h
+src_libsmoothfold_a_SOURCES += src/energy.c src/energy.h

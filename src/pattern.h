@@ -105,9 +105,11 @@ typedef struct sf_study {
     double penalty_rotation;    /* lambda_R [J] */
     double penalty_translation; /* lambda_d [J/m^2] */
     int quadrature;             /* Gauss-Legendre points per fold section */
+    double tolerance;           /* solver.tolerance: Newton tolerance (added by study.c) */
 
     /* output */
     int samples;                /* samples across a fold band in VTK output */
+    int shapes;                 /* output.shapes: shapes written along a path (added by study.c) */
 
     /* analysis: everything else the analysis needs is read by its module
      * from the libconfig tree kept here (opaque to avoid the dependency). */

@@ -64,9 +64,10 @@ void sf_section_point(const sf_section *sec, const double *q, double s,
  * with G = sec->gram. */
 
 /* Closed forms for the circular arc (G1, K = 0): c_n = w sin(t)/t,
- * c_3 = w (1 - cos t)/t and derivatives; series below |t| < SF_ARC_SERIES.
+ * c_3 = w (1 - cos t)/t and derivatives; Taylor series below |t| < SF_ARC_SERIES, where the
+ * closed forms would lose digits to cancellation.
  * f[3] = value, first, second derivative of sin(t)/t; g[3] of (1-cos t)/t. */
-#define SF_ARC_SERIES 1e-2
+#define SF_ARC_SERIES 1.0
 void sf_arc_functions(double t, double f[3], double g[3]);
 
 #endif

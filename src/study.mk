@@ -1,1 +1,2 @@
-# src/study.mk: fragment owned by one module
+# src/study.mk: the study file (schema, reader, --set, writer, accessors)
+src_libsmoothfold_a_SOURCES += src/study.c src/study.h

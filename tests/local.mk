@@ -4,3 +4,19 @@ SF_TEST_CFLAGS = $(AM_CFLAGS) $(CMOCKA_CFLAGS)
 include tests/cont.mk
 include tests/topology.mk
 include tests/study.mk
+
+check_PROGRAMS += tests/test_shape
+TESTS += tests/test_shape
+tests_test_shape_SOURCES = tests/test_shape.c
+tests_test_shape_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_shape_LDADD = $(SF_TEST_LIBS)
+
+check_PROGRAMS += tests/test_kinematics
+TESTS += tests/test_kinematics
+tests_test_kinematics_SOURCES = tests/test_kinematics.c
+tests_test_kinematics_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_kinematics_LDADD = $(SF_TEST_LIBS)
+
+# broken studies and their messages, through the program
+TESTS += tests/test_bad_input.sh
+EXTRA_DIST += tests/test_bad_input.sh

@@ -1,0 +1,159 @@
+/* commands.c - check and shape commands; the scene (study + topology +
+ * model) every command starts from. */
+#include "commands.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "kinematics.h"
+#include "scene.h"
+#include "study.h"
+#include "topology.h"
+#include "vtk.h"
+
+static const char *vname(const sf_study *s, int v) { return s->vertices[v].name; }
+
+int sf_cmd_check(const sf_options *o, sf_error *err)
+{
+    sf_scene sc;
+    if (sf_scene_open(&sc, o->study_path, o->nset, o->sets, err)) {
+        sf_scene_close(&sc);
+        return err->code;
+    }
+    const sf_study *s = &sc.study;
+    const sf_topology *t = &sc.topo;
+    const sf_model *m = &sc.model;
+    printf("study: %s (%s)\n", s->name, s->path);
+    printf("faces: %d\n", t->nfaces);
+    int ng1 = 0, ng2 = 0, kmin = 1 << 30, kmax = 0;
+    for (int i = 0; i < s->nfolds; i++) {
+        if (s->folds[i].continuity == 1) ng1++; else ng2++;
+        if (s->folds[i].modes < kmin) kmin = s->folds[i].modes;
+        if (s->folds[i].modes > kmax) kmax = s->folds[i].modes;
+    }
+    if (s->nfolds == 0) kmin = 0;
+    printf("folds: %d (G1 %d, G2 %d; shape modes K = %d", s->nfolds, ng1, ng2, kmin);
+    if (kmax != kmin) printf("..%d", kmax);
+    printf("; %d generalised coordinates)\n", m->nq);
+    printf("interior vertices: %d", t->nivertices);
+    for (int v = 0; v < t->nivertices; v++)
+        printf("%s%s (degree %d)", v ? ", " : ": ", vname(s, t->ivertices[v].vertex),
+               t->ivertices[v].degree);
+    printf("\n");
+    const sf_face *root = &t->faces[t->root];
+    printf("fixed face: %d (contains (%g, %g); %d corners, area %.6g m^2)\n", t->root + 1,
+           s->fixed_point[0], s->fixed_point[1], root->nverts, root->area);
+    printf("constraints: %s, %d loop equations", s->constraints == SF_CONSTRAINTS_EXACT
+           ? "exact (Lagrange multipliers)" : "penalty", m->ncon);
+    if (s->constraints == SF_CONSTRAINTS_PENALTY)
+        printf(" (lambda_R = %g J, lambda_d = %g J/m^2)", s->penalty_rotation,
+               s->penalty_translation);
+    printf("\n");
+    printf("effects: bending");
+    int nact = 0;
+    for (int i = 0; i < s->nfolds; i++) nact += s->folds[i].group >= 0;
+    if (s->nloads) printf(", %d point load%s", s->nloads, s->nloads > 1 ? "s" : "");
+    if (s->gravity_on)
+        printf(", gravity (%g, %g, %g) m/s^2 in stage %d", s->gravity[0], s->gravity[1],
+               s->gravity[2], s->gravity_stage);
+    if (s->ngroups) printf(", actuation of %d fold%s in %d group%s", nact, nact == 1 ? "" : "s",
+                           s->ngroups, s->ngroups == 1 ? "" : "s");
+    if (s->nsupports) printf(", %d support%s", s->nsupports, s->nsupports > 1 ? "s" : "");
+    printf("; %d load stage%s\n", s->nstages, s->nstages > 1 ? "s" : "");
+    for (int i = 0; i < s->nprobes; i++) {
+        sf_mpoint p;
+        if (sf_model_locate(m, s->probes[i].at, &p, err)) {
+            sf_error_prefix(err, "%s:%d: probe %d", s->path, s->probes[i].line, i + 1);
+            sf_scene_close(&sc);
+            return err->code;
+        }
+        printf("probe %d: %s at (%g, %g), ", i + 1, s->probes[i].name, s->probes[i].at[0],
+               s->probes[i].at[1]);
+        if (p.fold >= 0) printf("on the band of fold %d\n", p.fold + 1);
+        else printf("on face %d\n", p.face + 1);
+    }
+    printf("analysis: %s\n", s->analysis_type);
+    sf_scene_close(&sc);
+    return SF_OK;
+}
+
+/* Parse --angles: one value for all folds, or one per fold. */
+static int parse_angles(const char *txt, int nfolds, double *theta, sf_error *err)
+{
+    int n = 0;
+    const char *p = txt;
+    double vals[4096];
+    while (*p) {
+        char *end;
+        errno = 0;
+        double v = strtod(p, &end);
+        if (end == p || errno || !isfinite(v))
+            return sf_fail(err, SF_EINPUT, "--angles: cannot read a finite number at '%s'", p);
+        if (n >= 4096) return sf_fail(err, SF_EINPUT, "--angles: too many values");
+        vals[n++] = v;
+        p = end;
+        while (*p == ' ') p++;
+        if (*p == ',') p++;
+        else if (*p) return sf_fail(err, SF_EINPUT, "--angles: expected ',' at '%s'", p);
+    }
+    if (n == 1) {
+        for (int i = 0; i < nfolds; i++) theta[i] = vals[0];
+        return SF_OK;
+    }
+    if (n != nfolds)
+        return sf_fail(err, SF_EINPUT, "--angles: got %d values for %d folds (give one value "
+                       "or one per fold)", n, nfolds);
+    for (int i = 0; i < nfolds; i++) theta[i] = vals[i];
+    return SF_OK;
+}
+
+int sf_cmd_shape(const sf_options *o, sf_error *err)
+{
+    if (!o->output) return sf_fail(err, SF_EINPUT, "shape: give the output file with -o FILE");
+    sf_scene sc;
+    if (sf_scene_open(&sc, o->study_path, o->nset, o->sets, err)) {
+        sf_scene_close(&sc);
+        return err->code;
+    }
+    const sf_model *m = &sc.model;
+    double *q = calloc((size_t)m->nq + 1, sizeof(double));
+    double *theta = calloc((size_t)m->nfolds + 1, sizeof(double));
+    int rc = (!q || !theta) ? sf_fail(err, SF_ENOMEM, "out of memory") : SF_OK;
+    if (!rc && o->angles) rc = parse_angles(o->angles, m->nfolds, theta, err);
+    if (!rc) {
+        for (int i = 0; i < m->nfolds; i++) q[m->qoff[i]] = theta[i];
+        rc = sf_vtk_write_shape(m, q, sc.study.samples, o->output, err);
+    }
+    if (!rc && !o->quiet) {
+        /* the shape is drawn along the face tree; say how far the vertex
+         * loops are from closing for these angles */
+        double *g = calloc((size_t)m->ncon + 1, sizeof(double));
+        sf_kin k;
+        if (g && !sf_kin_alloc(m, &k)) {
+            sf_kin_eval(m, q, 0, &k);
+            sf_constraints(m, &k, g, NULL, NULL, NULL, 0);
+            double gr = 0, gt = 0;
+            for (int c = 0; c < m->ncon; c++) {
+                if (c % 6 < 3) gr = fmax(gr, fabs(g[c]));
+                else gt = fmax(gt, fabs(g[c]));
+            }
+            printf("wrote %s (%d faces, %d folds); loop residual: rotation %.3g, "
+                   "translation %.3g m\n", o->output, m->nfaces, m->nfolds, gr, gt);
+            sf_kin_free(&k);
+        }
+        free(g);
+    }
+    free(q);
+    free(theta);
+    sf_scene_close(&sc);
+    return rc;
+}
+
+int sf_cmd_run(const sf_options *o, sf_error *err)
+{
+    (void)o;
+    return sf_fail(err, SF_EINPUT, "run: not available yet");
+}

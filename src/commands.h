@@ -1,0 +1,21 @@
+/* commands.h - the program's commands, one function each.  They may print
+ * (to stdout for results, progress to stderr); they never exit. */
+#ifndef SF_COMMANDS_H
+#define SF_COMMANDS_H
+
+#include "sf_error.h"
+
+typedef struct sf_options {
+    const char *study_path;
+    const char *output;
+    const char **sets;
+    int nset;
+    const char *angles;
+    int quiet;
+} sf_options;
+
+int sf_cmd_check(const sf_options *o, sf_error *err);
+int sf_cmd_shape(const sf_options *o, sf_error *err);
+int sf_cmd_run(const sf_options *o, sf_error *err);
+
+#endif

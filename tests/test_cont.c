@@ -1,0 +1,717 @@
+/* test_cont.c - unit tests of the continuation engine (continuation/cont.h)
+ * on textbook problems with known answers:
+ *   fold       x^2 + p = 0: limit point at p = 0
+ *   pitchfork  (x (p - x^2), y - x^2) = 0: branch point at p = 0, branches
+ *              x = +-sqrt(p), y = p
+ *   Bratu      u'' + lambda e^u = 0 on (0,1), u(0) = u(1) = 0, central
+ *              differences: limit point lambda* -> 3.51383071912516 as N
+ *              grows; the discrete lambda*_N is checked against an
+ *              independent shooting computation (see bratu_shoot_lstar)
+ *   failure    a residual that turns NaN (or returns an error) beyond p = 0.7
+ *   stop rules p window (EP exactly on p_max), max steps, max arclength
+ * A failing check prints what it expected, what it got and the tolerance.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <kinsol/kinsol.h>
+
+#include "cont.h"
+
+/* ------------------------------------------------------------------ */
+
+#define CHECK_CLOSE(got, exp, tol)                                            \
+    do {                                                                      \
+        double g_ = (got), e_ = (exp), t_ = (tol);                            \
+        if (!(fabs(g_ - e_) <= t_)) {                                         \
+            print_error("%s:%d: %s\n  expected %.17g\n  got      %.17g\n"     \
+                        "  |diff| = %.3g > tol %.3g\n",                       \
+                        __FILE__, __LINE__, #got, e_, g_, fabs(g_ - e_), t_); \
+            fail();                                                           \
+        }                                                                     \
+    } while (0)
+
+#define CHECK_TRUE(cond, ...)                                                 \
+    do {                                                                      \
+        if (!(cond)) {                                                        \
+            print_error("%s:%d: check failed: %s\n  ", __FILE__, __LINE__,   \
+                        #cond);                                               \
+            print_error(__VA_ARGS__);                                         \
+            print_error("\n");                                                \
+            fail();                                                           \
+        }                                                                     \
+    } while (0)
+
+#define CHECK_OK(call, s)                                                     \
+    do {                                                                      \
+        int rc_ = (call);                                                     \
+        if (rc_ != CONT_OK) {                                                 \
+            print_error("%s:%d: %s returned %d, expected CONT_OK: %s\n",      \
+                        __FILE__, __LINE__, #call, rc_, cont_errmsg(s));      \
+            fail();                                                           \
+        }                                                                     \
+    } while (0)
+
+static cont_solver *make(const cont_problem *prob, int linsol)
+{
+    cont_solver *s = NULL;
+    int rc = cont_create(prob, linsol, &s);
+    if (rc != CONT_OK) {
+        print_error("cont_create failed (%d): %s\n", rc, s ? cont_errmsg(s) : "no memory");
+        cont_free(s);
+        fail();
+    }
+    return s;
+}
+
+static int count_label(const cont_solver *s, const char *label)
+{
+    int k = 0;
+    for (long i = 0; i < cont_num_special(s); i++)
+        if (strcmp(cont_special_at(s, i)->label, label) == 0) k++;
+    return k;
+}
+
+static const cont_point *find_label(const cont_solver *s, const char *label)
+{
+    for (long i = 0; i < cont_num_special(s); i++)
+        if (strcmp(cont_special_at(s, i)->label, label) == 0) return cont_special_at(s, i);
+    return NULL;
+}
+
+/* Fill a CSC sparse matrix from dense column-major values (|v| > 0 kept,
+ * plus the diagonal so the pattern stays fixed). */
+static void dense_to_csc(SUNMatrix J, long n, const double *a)
+{
+    sunindextype *ptr = SM_INDEXPTRS_S(J), *idx = SM_INDEXVALS_S(J);
+    double *val = SM_DATA_S(J);
+    sunindextype k = 0;
+    for (long j = 0; j < n; j++) {
+        ptr[j] = k;
+        for (long i = 0; i < n; i++)
+            if (a[j * n + i] != 0.0 || i == j) {
+                idx[k] = i;
+                val[k++] = a[j * n + i];
+            }
+    }
+    ptr[n] = k;
+}
+
+/* ------------------------------------------------------------------ */
+/* fold: x^2 + p = 0, user test x - 0.5                                */
+
+static int fold_res(const double *y, double p, double *F, void *u)
+{
+    (void)u;
+    F[0] = y[0] * y[0] + p;
+    return 0;
+}
+
+static int fold_jac(const double *y, double p, SUNMatrix J, double *Fp, void *u)
+{
+    (void)p; (void)u;
+    SM_ELEMENT_D(J, 0, 0) = 2.0 * y[0];
+    Fp[0] = 1.0;
+    return 0;
+}
+
+static int fold_test(const double *y, double p, const double *ty, double tp, double *out,
+                     void *u)
+{
+    (void)p; (void)ty; (void)tp; (void)u;
+    out[0] = y[0] - 0.5;
+    return 0;
+}
+
+static void test_fold_limit_point(void **state)
+{
+    (void)state;
+    static const char *const labels[] = {"X05"};
+    cont_problem prob = {.n = 1, .residual = fold_res, .jacobian = fold_jac,
+                         .jac_matrix = CONT_MATRIX_DENSE, .ntest = 1, .test = fold_test,
+                         .test_labels = labels};
+    cont_solver *s = make(&prob, CONT_LINSOL_AUTO);
+    CHECK_OK(cont_set_step(s, 0.05, 1e-8, 0.2), s);
+    CHECK_OK(cont_set_prange(s, -1.0, 1.0), s);
+    double y0 = 1.0;
+    CHECK_OK(cont_start(s, &y0, -1.0, +1), s);
+    const cont_point *p0 = cont_get_point(s);
+    /* initial tangent: 2x tx + tp = 0 with tp > 0: (-1/2, 1)/|.| at x = 1 */
+    CHECK_CLOSE(p0->tp, 1.0 / sqrt(1.25), 1e-12);
+    CHECK_CLOSE(p0->ty[0], -0.5 / sqrt(1.25), 1e-12);
+    int st = cont_run(s);
+    CHECK_TRUE(st == CONT_DONE, "status %d, message: %s", st, cont_errmsg(s));
+    CHECK_TRUE(count_label(s, "LP") == 1, "expected 1 LP, got %d", count_label(s, "LP"));
+    CHECK_TRUE(count_label(s, "BP") == 0, "expected no BP, got %d", count_label(s, "BP"));
+    const cont_point *lp = find_label(s, "LP");
+    if (!lp) fail();
+    CHECK_CLOSE(lp->p, 0.0, 1e-8);
+    CHECK_CLOSE(lp->y[0], 0.0, 1e-6);
+    CHECK_CLOSE(lp->tp, 0.0, 1e-6);
+    CHECK_TRUE(lp->type == CONT_PT_LP, "type %d", lp->type);
+    /* the user test function x = 0.5 at p = -0.25 */
+    const cont_point *ux = find_label(s, "X05");
+    CHECK_TRUE(ux != NULL, "user test point X05 not reported");
+    if (ux) {
+        CHECK_CLOSE(ux->y[0], 0.5, 1e-8);
+        CHECK_CLOSE(ux->p, -0.25, 1e-8);
+        CHECK_TRUE(ux->type == CONT_PT_USER && ux->user_index == 0, "type %d index %d",
+                   ux->type, ux->user_index);
+    }
+    /* after the LP: x < 0 and p decreasing, down to the EP at p = -1 */
+    long i_lp = -1, np = cont_num_points(s);
+    for (long i = 0; i < np; i++)
+        if (strcmp(cont_point_at(s, i)->label, "LP") == 0) i_lp = i;
+    CHECK_TRUE(i_lp > 0 && i_lp < np - 2, "LP at index %ld of %ld points", i_lp, np);
+    for (long i = i_lp + 1; i < np; i++) {
+        const cont_point *a = cont_point_at(s, i), *b = cont_point_at(s, i - 1);
+        CHECK_TRUE(a->y[0] < 0, "point %ld after the LP has x = %g >= 0", i, a->y[0]);
+        CHECK_TRUE(a->p < b->p, "p not decreasing after the LP: %g then %g", b->p, a->p);
+        CHECK_TRUE(a->tp < 0, "tangent p-component %g >= 0 after the LP", a->tp);
+        CHECK_CLOSE(a->y[0] * a->y[0] + a->p, 0.0, 1e-9);
+        CHECK_TRUE(a->s > b->s, "arclength not increasing");
+    }
+    const cont_point *ep = cont_get_point(s);
+    CHECK_TRUE(strcmp(ep->label, "EP") == 0, "last label '%s'", ep->label);
+    CHECK_TRUE(ep->p == -1.0, "EP p = %.17g, expected exactly -1", ep->p);
+    CHECK_CLOSE(ep->y[0], -1.0, 1e-9);
+    CHECK_TRUE(cont_stop_reason(s) == CONT_STOP_PMIN, "stop reason %s",
+               cont_stop_name(cont_stop_reason(s)));
+    /* the arclength of the parabola p = -x^2 from x = 1 to x = -1 */
+    double arc = sqrt(5.0) + 0.5 * asinh(2.0);
+    CHECK_CLOSE(ep->s, arc, 2e-2 * arc);   /* pseudo-arclength <= true arclength */
+    cont_free(s);
+}
+
+/* ------------------------------------------------------------------ */
+/* pitchfork: F = (x (p - x^2), y - x^2)                                */
+
+static void pf_dense(const double *v, double p, double *a, double *Fp)
+{
+    double x = v[0];
+    a[0] = p - 3 * x * x; a[1] = -2 * x;   /* column 0 */
+    a[2] = 0.0; a[3] = 1.0;                /* column 1 */
+    Fp[0] = x;
+    Fp[1] = 0.0;
+}
+
+static int pf_res(const double *v, double p, double *F, void *u)
+{
+    (void)u;
+    F[0] = v[0] * (p - v[0] * v[0]);
+    F[1] = v[1] - v[0] * v[0];
+    return 0;
+}
+
+static int pf_jac(const double *v, double p, SUNMatrix J, double *Fp, void *u)
+{
+    (void)u;
+    double a[4];
+    pf_dense(v, p, a, Fp);
+    for (int j = 0; j < 2; j++)
+        for (int i = 0; i < 2; i++) SM_ELEMENT_D(J, i, j) = a[j * 2 + i];
+    return 0;
+}
+
+static int pf_jac_sparse(const double *v, double p, SUNMatrix J, double *Fp, void *u)
+{
+    (void)u;
+    double a[4];
+    pf_dense(v, p, a, Fp);
+    dense_to_csc(J, 2, a);
+    return 0;
+}
+
+static void pitchfork_case(int sparse)
+{
+    cont_problem prob = {.n = 2, .residual = pf_res,
+                         .jacobian = sparse ? pf_jac_sparse : pf_jac,
+                         .jac_matrix = sparse ? CONT_MATRIX_SPARSE : CONT_MATRIX_DENSE};
+    cont_solver *s = make(&prob, sparse ? CONT_LINSOL_KLU : CONT_LINSOL_DENSE);
+    CHECK_TRUE(cont_get_linsol(s) == (sparse ? CONT_LINSOL_KLU : CONT_LINSOL_DENSE),
+               "linear solver %d", cont_get_linsol(s));
+    CHECK_OK(cont_set_step(s, 0.1, 1e-8, 0.3), s);
+    CHECK_OK(cont_set_prange(s, -1.0, 1.0), s);
+    double y0[2] = {0.0, 0.0};
+    CHECK_OK(cont_start(s, y0, -1.0, +1), s);
+    int st = cont_run(s);
+    CHECK_TRUE(st == CONT_DONE, "status %d: %s", st, cont_errmsg(s));
+    CHECK_TRUE(count_label(s, "BP") == 1, "expected 1 BP, got %d", count_label(s, "BP"));
+    CHECK_TRUE(count_label(s, "LP") == 0, "expected no LP, got %d", count_label(s, "LP"));
+    const cont_point *bp = find_label(s, "BP");
+    if (!bp) {
+        cont_free(s);
+        fail();
+        return;
+    }
+    CHECK_CLOSE(bp->p, 0.0, 1e-8);
+    CHECK_CLOSE(bp->y[0], 0.0, 1e-12);
+    CHECK_TRUE(bp->type == CONT_PT_BP, "type %d", bp->type);
+    /* copy the BP: the next cont_start discards the stored points */
+    double ybp[2] = {bp->y[0], bp->y[1]}, pbp = bp->p;
+    double tbp[2] = {bp->ty[0], bp->ty[1]}, tpbp = bp->tp;
+    double tn[2], tpn;
+    CHECK_OK(cont_branch_direction(s, ybp, pbp, tbp, tpbp, tn, &tpn), s);
+    /* independent: the null space of [Jy Fp] at (0,0,0) is span(e_x, e_p);
+     * orthogonal to the trivial branch (e_p): e_x */
+    CHECK_CLOSE(tn[0], 1.0, 1e-8);
+    CHECK_CLOSE(tn[1], 0.0, 1e-8);
+    CHECK_CLOSE(tpn, 0.0, 1e-8);
+    CHECK_OK(cont_set_prange(s, -1.0, 0.25), s);
+    for (int sg = 1; sg >= -1; sg -= 2) {
+        double t[2] = {sg * tn[0], sg * tn[1]};
+        CHECK_OK(cont_start_tangent(s, ybp, pbp, t, sg * tpn), s);
+        st = cont_run(s);
+        CHECK_TRUE(st == CONT_DONE, "branch %+d: status %d: %s", sg, st, cont_errmsg(s));
+        const cont_point *ep = cont_get_point(s);
+        CHECK_TRUE(ep->p == 0.25, "EP p = %.17g, expected exactly 0.25", ep->p);
+        CHECK_CLOSE(ep->y[0], sg * 0.5, 1e-10);   /* x = +-sqrt(p) */
+        CHECK_CLOSE(ep->y[1], 0.25, 1e-10);       /* y = p */
+        for (long i = 1; i < cont_num_points(s); i++) {
+            const cont_point *q = cont_point_at(s, i);
+            CHECK_TRUE(sg * q->y[0] > 0, "branch %+d: point %ld has x = %g", sg, i, q->y[0]);
+            CHECK_CLOSE(q->y[0] * q->y[0], q->p, 1e-9);
+        }
+        CHECK_TRUE(cont_num_special(s) == 1, "branch %+d: %ld special points, expected only "
+                   "the EP (the start BP must not be reported again)", sg, cont_num_special(s));
+    }
+    cont_free(s);
+}
+
+static void test_pitchfork_dense(void **state)
+{
+    (void)state;
+    pitchfork_case(0);
+}
+
+static void test_pitchfork_klu(void **state)
+{
+    (void)state;
+    pitchfork_case(1);
+}
+
+/* Going up the bifurcated branch x = sqrt(p) from p = 0.25 down through the
+ * BP: t_p and the determinant change sign together; one BP is reported. */
+static void test_pitchfork_through_bp_on_branch(void **state)
+{
+    (void)state;
+    cont_problem prob = {.n = 2, .residual = pf_res, .jacobian = pf_jac,
+                         .jac_matrix = CONT_MATRIX_DENSE};
+    cont_solver *s = make(&prob, CONT_LINSOL_DENSE);
+    CHECK_OK(cont_set_step(s, 0.05, 1e-8, 0.1), s);
+    CHECK_OK(cont_set_prange(s, -1.0, 0.5), s);
+    CHECK_OK(cont_set_max_steps(s, 200), s);
+    double y0[2] = {0.5, 0.25};
+    CHECK_OK(cont_start(s, y0, 0.25, -1), s);
+    int st = cont_run(s);
+    CHECK_TRUE(st == CONT_DONE, "status %d: %s", st, cont_errmsg(s));
+    CHECK_TRUE(count_label(s, "BP") == 1 && count_label(s, "LP") == 0,
+               "expected one BP and no LP, got %d BP, %d LP", count_label(s, "BP"),
+               count_label(s, "LP"));
+    const cont_point *bp = find_label(s, "BP");
+    if (bp) {
+        CHECK_CLOSE(bp->p, 0.0, 1e-8);
+        CHECK_CLOSE(bp->y[0], 0.0, 1e-4);
+    }
+    const cont_point *ep = cont_get_point(s);
+    CHECK_TRUE(ep->p == 0.5, "EP p = %.17g, expected 0.5", ep->p);
+    CHECK_CLOSE(ep->y[0], -sqrt(0.5), 1e-10);
+    cont_free(s);
+}
+
+/* ------------------------------------------------------------------ */
+/* Bratu                                                                */
+
+typedef struct bratu {
+    long N;
+} bratu;
+
+static int bratu_res(const double *u, double lam, double *F, void *ud)
+{
+    long N = ((bratu *)ud)->N;
+    double h = 1.0 / (double)(N + 1), h2 = h * h;
+    for (long i = 0; i < N; i++) {
+        double ul = i > 0 ? u[i - 1] : 0.0, ur = i < N - 1 ? u[i + 1] : 0.0;
+        F[i] = ul - 2.0 * u[i] + ur + h2 * lam * exp(u[i]);
+    }
+    return 0;
+}
+
+static int bratu_jac_dense(const double *u, double lam, SUNMatrix J, double *Fp, void *ud)
+{
+    long N = ((bratu *)ud)->N;
+    double h = 1.0 / (double)(N + 1), h2 = h * h;
+    for (long i = 0; i < N; i++) {
+        SM_ELEMENT_D(J, i, i) = -2.0 + h2 * lam * exp(u[i]);
+        if (i > 0) SM_ELEMENT_D(J, i, i - 1) = 1.0;
+        if (i < N - 1) SM_ELEMENT_D(J, i, i + 1) = 1.0;
+        Fp[i] = h2 * exp(u[i]);
+    }
+    return 0;
+}
+
+static int bratu_jac_sparse(const double *u, double lam, SUNMatrix J, double *Fp, void *ud)
+{
+    long N = ((bratu *)ud)->N;
+    double h = 1.0 / (double)(N + 1), h2 = h * h;
+    if (SM_NNZ_S(J) < 3 * N && SUNSparseMatrix_Reallocate(J, 3 * N) != 0) return -1;
+    sunindextype *ptr = SM_INDEXPTRS_S(J), *idx = SM_INDEXVALS_S(J);
+    double *val = SM_DATA_S(J);
+    sunindextype k = 0;
+    for (long j = 0; j < N; j++) {
+        ptr[j] = k;
+        if (j > 0) { idx[k] = j - 1; val[k++] = 1.0; }
+        idx[k] = j; val[k++] = -2.0 + h2 * lam * exp(u[j]);
+        if (j < N - 1) { idx[k] = j + 1; val[k++] = 1.0; }
+        Fp[j] = h2 * exp(u[j]);
+    }
+    ptr[N] = k;
+    return 0;
+}
+
+static int stop_at_lp(const cont_point *pt, void *data)
+{
+    (void)data;
+    return pt->type == CONT_PT_LP;
+}
+
+/* Independent value of the discrete limit point by shooting: u_0 = 0,
+ * u_1 = a, u_{i+1} = 2 u_i - u_{i-1} - h^2 lam e^{u_i}; lam(a) solves
+ * u_{N+1} = 0 (bisection), and lam*_N = max_a lam(a) (golden section). */
+static double bratu_shoot(double a, double lam, long N)
+{
+    double h = 1.0 / (double)(N + 1), u0 = 0.0, u1 = a;
+    for (long i = 1; i <= N; i++) {
+        double u2 = 2.0 * u1 - u0 - h * h * lam * exp(u1);
+        u0 = u1;
+        u1 = u2;
+    }
+    return u1;
+}
+
+static double bratu_lam_of_a(double a, long N)
+{
+    double lo = 0.0, hi = 50.0;
+    for (int it = 0; it < 70; it++) {
+        double mid = 0.5 * (lo + hi);
+        if (bratu_shoot(a, mid, N) > 0) lo = mid;
+        else hi = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+static double bratu_shoot_lstar(long N)
+{
+    double h = 1.0 / (double)(N + 1), lo = 0.5 * h, hi = 8.0 * h;
+    double g = 0.5 * (sqrt(5.0) - 1.0);
+    double c = hi - g * (hi - lo), d = lo + g * (hi - lo);
+    double fc = bratu_lam_of_a(c, N), fd = bratu_lam_of_a(d, N);
+    for (int it = 0; it < 60; it++) {
+        if (fc > fd) {
+            hi = d; d = c; fd = fc;
+            c = hi - g * (hi - lo); fc = bratu_lam_of_a(c, N);
+        } else {
+            lo = c; c = d; fc = fd;
+            d = lo + g * (hi - lo); fd = bratu_lam_of_a(d, N);
+        }
+    }
+    return fmax(fc, fd);
+}
+
+/* Continue from lam0 (lower branch) to the LP; returns lam* (NAN on failure). */
+static double bratu_lp(long N, int jac_matrix, int linsol, double lam0, int *used_linsol,
+                       cont_stats *tot)
+{
+    bratu B = {N};
+    cont_problem prob = {.n = N, .residual = bratu_res,
+                         .jacobian = jac_matrix == CONT_MATRIX_SPARSE ? bratu_jac_sparse
+                                                                      : bratu_jac_dense,
+                         .jac_matrix = jac_matrix, .jac_nnz = 3 * N, .user = &B};
+    cont_solver *s = make(&prob, linsol);
+    double sq = sqrt((double)N);
+    CHECK_OK(cont_set_step(s, 0.2 * sq, 1e-8, 0.5 * sq), s);
+    CHECK_OK(cont_set_prange(s, 0.0, 10.0), s);
+    CHECK_OK(cont_set_callback(s, stop_at_lp, NULL), s);
+    CHECK_OK(cont_set_detect(s, CONT_DETECT_LP, 1e-10), s);
+    double *u = calloc((size_t)N, sizeof(double));
+    CHECK_OK(cont_start(s, u, lam0, +1), s);
+    int st = cont_run(s);
+    CHECK_TRUE(st == CONT_DONE && cont_stop_reason(s) == CONT_STOP_CALLBACK,
+               "N = %ld: status %d (%s): %s", N, st, cont_stop_name(cont_stop_reason(s)),
+               cont_errmsg(s));
+    const cont_point *lp = find_label(s, "LP");
+    double lam = lp ? lp->p : NAN;
+    if (used_linsol) *used_linsol = cont_get_linsol(s);
+    if (tot) cont_get_stats(s, NULL, tot);
+    /* u is symmetric about x = 1/2 at the LP, and F = 0 */
+    if (lp) {
+        CHECK_CLOSE(lp->y[0], lp->y[N - 1], 1e-8);
+        CHECK_TRUE(lp->resnorm <= 1e-10, "LP residual %g", lp->resnorm);
+    }
+    free(u);
+    cont_free(s);
+    return lam;
+}
+
+static void test_bratu_convergence(void **state)
+{
+    (void)state;
+    const double lstar = 3.51383071912516;   /* continuum lambda_c */
+    long Ns[3] = {20, 40, 80};
+    double err[3];
+    for (int k = 0; k < 3; k++) {
+        double lam = bratu_lp(Ns[k], CONT_MATRIX_DENSE, CONT_LINSOL_DENSE, 0.0, NULL, NULL);
+        double ref = bratu_shoot_lstar(Ns[k]);
+        CHECK_CLOSE(lam, ref, 1e-8 * ref);        /* discrete LP, independent method */
+        err[k] = fabs(lam - lstar);
+        print_message("# Bratu N = %ld: lambda* = %.12f (shooting %.12f), error %.3e\n",
+                      Ns[k], lam, ref, err[k]);
+    }
+    /* O(h^2): error ratio (h1/h2)^2 = ((2N+1+... )) about 3.8 when N doubles */
+    for (int k = 0; k < 2; k++) {
+        double h1 = 1.0 / (double)(Ns[k] + 1), h2 = 1.0 / (double)(Ns[k + 1] + 1);
+        CHECK_CLOSE(err[k] / err[k + 1], (h1 * h1) / (h2 * h2), 0.1 * (h1 * h1) / (h2 * h2));
+    }
+    CHECK_TRUE(err[2] / lstar < 1e-3, "relative error at N = 80: %g", err[2] / lstar);
+}
+
+static void test_bratu_klu_vs_dense(void **state)
+{
+    (void)state;
+    long N = 400;
+    int ls_auto = -1, ls_dense = -1;
+    cont_stats ta, td;
+    double lam_klu = bratu_lp(N, CONT_MATRIX_SPARSE, CONT_LINSOL_AUTO, 3.0, &ls_auto, &ta);
+    double lam_dense = bratu_lp(N, CONT_MATRIX_SPARSE, CONT_LINSOL_DENSE, 3.0, &ls_dense, &td);
+    CHECK_TRUE(ls_auto == CONT_LINSOL_KLU, "AUTO with a sparse Jy and n = 400 chose %d", ls_auto);
+    CHECK_TRUE(ls_dense == CONT_LINSOL_DENSE, "forced dense gave %d", ls_dense);
+    CHECK_CLOSE(lam_klu, lam_dense, 1e-8 * lam_dense);
+    double ref = bratu_shoot_lstar(N);
+    CHECK_CLOSE(lam_klu, ref, 1e-8 * ref);
+    print_message("# Bratu N = 400: KLU %.12f (%.3f s), dense %.12f (%.3f s), shooting %.12f\n",
+                  lam_klu, ta.wall, lam_dense, td.wall, ref);
+}
+
+/* ------------------------------------------------------------------ */
+/* failure: F = x - p, NaN (or an error code) for p > 0.7               */
+
+static int nan_res(const double *y, double p, double *F, void *ud)
+{
+    int mode = *(int *)ud;
+    if (p > 0.7) {
+        if (mode == 1) return -3;
+        F[0] = NAN;
+        return 0;
+    }
+    F[0] = y[0] - p;
+    return 0;
+}
+
+static int nan_jac(const double *y, double p, SUNMatrix J, double *Fp, void *ud)
+{
+    (void)y; (void)p; (void)ud;
+    SM_ELEMENT_D(J, 0, 0) = 1.0;
+    Fp[0] = -1.0;
+    return 0;
+}
+
+static void test_failure_diagnosis(void **state)
+{
+    (void)state;
+    for (int mode = 0; mode < 2; mode++) {
+        cont_problem prob = {.n = 1, .residual = nan_res, .jacobian = nan_jac,
+                             .jac_matrix = CONT_MATRIX_DENSE, .user = &mode};
+        cont_solver *s = make(&prob, CONT_LINSOL_DENSE);
+        CHECK_OK(cont_set_step(s, 0.1, 1e-6, 0.2), s);
+        CHECK_OK(cont_set_prange(s, -1.0, 2.0), s);
+        double y0 = 0.0;
+        CHECK_OK(cont_start(s, &y0, 0.0, +1), s);
+        int st = cont_run(s);
+        CHECK_TRUE(st == CONT_FAIL, "mode %d: status %d, expected CONT_FAIL", mode, st);
+        CHECK_TRUE(cont_stop_reason(s) == CONT_STOP_DSMIN, "stop reason %s",
+                   cont_stop_name(cont_stop_reason(s)));
+        const char *m = cont_errmsg(s);
+        print_message("# failure message (mode %d): %s\n", mode, m);
+        CHECK_TRUE(m[0] != '\0', "empty message");
+        CHECK_TRUE(strstr(m, "step size") && strstr(m, "ds_min") && strstr(m, "p = "),
+                   "message does not name the step size, ds_min and p: %s", m);
+        CHECK_TRUE(strstr(m, mode == 0 ? "non-finite" : "returned -3"),
+                   "message does not give the cause: %s", m);
+        long np = cont_num_points(s);
+        CHECK_TRUE(np > 2, "only %ld points", np);
+        for (long i = 0; i < np; i++) {
+            const cont_point *q = cont_point_at(s, i);
+            CHECK_TRUE(isfinite(q->p) && isfinite(q->y[0]) && isfinite(q->tp) &&
+                       isfinite(q->ty[0]) && isfinite(q->resnorm),
+                       "point %ld is not finite", i);
+            CHECK_TRUE(q->p <= 0.7, "point %ld beyond the NaN region: p = %g", i, q->p);
+        }
+        /* it got close to the failure before giving up */
+        CHECK_CLOSE(cont_point_at(s, np - 1)->p, 0.7, 1e-4);
+        /* cont_step after a failure keeps failing, no crash */
+        CHECK_TRUE(cont_step(s) == CONT_FAIL, "cont_step after failure");
+        cont_free(s);
+    }
+}
+
+/* ------------------------------------------------------------------ */
+/* stop rules: F = x^3 + x - p                                          */
+
+static int cub_res(const double *y, double p, double *F, void *u)
+{
+    (void)u;
+    F[0] = y[0] * y[0] * y[0] + y[0] - p;
+    return 0;
+}
+
+static int cub_jac(const double *y, double p, SUNMatrix J, double *Fp, void *u)
+{
+    (void)p; (void)u;
+    SM_ELEMENT_D(J, 0, 0) = 3 * y[0] * y[0] + 1.0;
+    Fp[0] = -1.0;
+    return 0;
+}
+
+static double cardano(double p)   /* real root of x^3 + x = p */
+{
+    double d = sqrt(p * p / 4.0 + 1.0 / 27.0);
+    return cbrt(p / 2.0 + d) + cbrt(p / 2.0 - d);
+}
+
+typedef struct counter {
+    long calls, last_index;
+    int order_ok;
+} counter;
+
+static int count_points(const cont_point *pt, void *data)
+{
+    counter *c = data;
+    if (pt->index != c->calls) c->order_ok = 0;
+    c->calls++;
+    c->last_index = pt->index;
+    return 0;
+}
+
+static void test_stop_rules(void **state)
+{
+    (void)state;
+    cont_problem prob = {.n = 1, .residual = cub_res, .jacobian = cub_jac,
+                         .jac_matrix = CONT_MATRIX_DENSE};
+    cont_solver *s = make(&prob, CONT_LINSOL_DENSE);
+    /* (1) p window: EP exactly on p_max, driven step by step */
+    const double pmax = 1.2345;
+    CHECK_OK(cont_set_step(s, 0.1, 1e-8, 0.3), s);
+    CHECK_OK(cont_set_prange(s, -1.0, pmax), s);
+    counter cnt = {0, -1, 1};
+    CHECK_OK(cont_set_callback(s, count_points, &cnt), s);
+    double y0 = 0.3;   /* not a solution: cont_start corrects it at p = 0 */
+    CHECK_OK(cont_start(s, &y0, 0.0, +1), s);
+    CHECK_CLOSE(cont_get_point(s)->y[0], 0.0, 1e-10);   /* |F| <= ftol = 1e-10, F' >= 1 */
+    int st, nstep = 0;
+    double plast = 0.0;
+    while ((st = cont_step(s)) == CONT_CONTINUE) {
+        const cont_point *q = cont_get_point(s);
+        CHECK_TRUE(q->p > plast, "p not increasing");
+        CHECK_TRUE(q->p < pmax, "p beyond p_max before the end: %.17g", q->p);
+        CHECK_CLOSE(q->y[0], cardano(q->p), 1e-10);
+        plast = q->p;
+        nstep++;
+    }
+    CHECK_TRUE(st == CONT_DONE, "status %d: %s", st, cont_errmsg(s));
+    const cont_point *ep = cont_get_point(s);
+    CHECK_TRUE(ep->p == pmax, "EP p = %.17g, expected exactly %.17g", ep->p, pmax);
+    CHECK_CLOSE(ep->y[0], cardano(pmax), 1e-12);
+    CHECK_TRUE(ep->resnorm <= 1e-10, "EP residual %g", ep->resnorm);
+    CHECK_TRUE(strcmp(ep->label, "EP") == 0 && ep->type == CONT_PT_EP, "label '%s'", ep->label);
+    CHECK_TRUE(cont_stop_reason(s) == CONT_STOP_PMAX, "reason %s",
+               cont_stop_name(cont_stop_reason(s)));
+    CHECK_TRUE(cnt.order_ok && cnt.calls == cont_num_points(s) && cnt.last_index == ep->index,
+               "callback saw %ld points (order ok %d), stored %ld", cnt.calls, cnt.order_ok,
+               cont_num_points(s));
+    CHECK_TRUE(cont_step(s) == CONT_DONE, "cont_step after the end");
+    cont_stats last, tot;
+    CHECK_OK(cont_get_stats(s, &last, &tot), s);
+    CHECK_TRUE(tot.steps == nstep + 1 && tot.points == nstep + 2,
+               "stats: %ld steps, %ld points; loop saw %d steps", tot.steps, tot.points, nstep);
+    CHECK_TRUE(tot.newton_iters >= tot.steps && tot.njac > 0 && tot.nres > 0 &&
+               tot.nfactor >= tot.njac && tot.nlinsolve > 0 && tot.wall >= 0 &&
+               last.steps == 1 && last.ds > 0,
+               "stats not plausible: newton %ld, jac %ld, res %ld, fact %ld, solves %ld",
+               tot.newton_iters, tot.njac, tot.nres, tot.nfactor, tot.nlinsolve);
+    /* (2) max steps */
+    CHECK_OK(cont_set_callback(s, NULL, NULL), s);
+    CHECK_OK(cont_set_prange(s, -10.0, 10.0), s);
+    CHECK_OK(cont_set_max_steps(s, 5), s);
+    y0 = 0.0;
+    CHECK_OK(cont_start(s, &y0, 0.0, -1), s);
+    st = cont_run(s);
+    CHECK_TRUE(st == CONT_DONE && cont_stop_reason(s) == CONT_STOP_MAXSTEPS,
+               "status %d reason %s", st, cont_stop_name(cont_stop_reason(s)));
+    CHECK_TRUE(cont_num_points(s) == 6, "%ld points after 5 steps", cont_num_points(s));
+    CHECK_TRUE(cont_get_point(s)->p < 0, "direction -1 did not decrease p");
+    /* (3) max arclength: lands on it */
+    CHECK_OK(cont_set_max_steps(s, 0), s);
+    CHECK_OK(cont_set_max_arclength(s, 0.777), s);
+    CHECK_OK(cont_start(s, &y0, 0.0, +1), s);
+    st = cont_run(s);
+    CHECK_TRUE(st == CONT_DONE && cont_stop_reason(s) == CONT_STOP_MAXARC,
+               "status %d reason %s", st, cont_stop_name(cont_stop_reason(s)));
+    CHECK_CLOSE(cont_get_point(s)->s, 0.777, 1e-12);
+    /* bad options are refused with a message */
+    CHECK_TRUE(cont_set_step(s, 0.1, 0.2, 0.3) == CONT_EINPUT, "bad ds accepted");
+    cont_free(s);
+}
+
+/* ------------------------------------------------------------------ */
+
+static void test_bad_input(void **state)
+{
+    (void)state;
+    cont_problem prob = {.n = 0, .residual = cub_res, .jacobian = cub_jac};
+    cont_solver *s = NULL;
+    CHECK_TRUE(cont_create(&prob, CONT_LINSOL_AUTO, &s) == CONT_EINPUT, "n = 0 accepted");
+    CHECK_TRUE(s && strstr(cont_errmsg(s), "n = 0"), "message: %s", s ? cont_errmsg(s) : "");
+    cont_free(s);
+    prob.n = 1;
+    s = make(&prob, CONT_LINSOL_AUTO);
+    CHECK_TRUE(cont_step(s) == CONT_FAIL && strstr(cont_errmsg(s), "before cont_start"),
+               "cont_step before start: %s", cont_errmsg(s));
+    /* no tangent at a limit point with cont_start */
+    cont_problem fold = {.n = 1, .residual = fold_res, .jacobian = fold_jac};
+    cont_solver *f = make(&fold, CONT_LINSOL_DENSE);
+    double y0 = 0.0;
+    CHECK_TRUE(cont_start(f, &y0, 0.0, +1) == CONT_ENUMERIC &&
+               strstr(cont_errmsg(f), "cont_start_tangent"), "start at the LP: %s",
+               cont_errmsg(f));
+    /* not a branch point */
+    double tn, tpn, ty = 0.0;
+    y0 = 1.0;
+    CHECK_TRUE(cont_branch_direction(f, &y0, -1.0, &ty, 1.0, &tn, &tpn) == CONT_ENUMERIC,
+               "branch direction at a regular point");
+    cont_free(f);
+    cont_free(s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_fold_limit_point),
+        cmocka_unit_test(test_pitchfork_dense),
+        cmocka_unit_test(test_pitchfork_klu),
+        cmocka_unit_test(test_pitchfork_through_bp_on_branch),
+        cmocka_unit_test(test_bratu_convergence),
+        cmocka_unit_test(test_bratu_klu_vs_dense),
+        cmocka_unit_test(test_failure_diagnosis),
+        cmocka_unit_test(test_stop_rules),
+        cmocka_unit_test(test_bad_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
