@@ -97,6 +97,7 @@ struct cont_solver {
     double *bc, *bxa, bsig;
     double *cw, *w1;         /* work, m each */
     char *mark;              /* permutation parity work, m+1 */
+    long *stamp;             /* duplicate check of sparse Jy, n */
 
     /* run state */
     int state, stop_reason, first_step;
@@ -242,11 +243,20 @@ static int check_sparse_jy(cont_solver *s, double p)
             (long)SM_NNZ_S(J));
         return -1;
     }
-    for (sunindextype k = 0; k < ptr[n]; k++)
-        if (idx[k] < 0 || idx[k] >= n) {
-            why(s, "sparse Jacobian at p = %.10g: row index %ld out of range "
-                "(entry %ld)", p, (long)idx[k], (long)k);
-            return -1;
+    for (long i = 0; i < n; i++) s->stamp[i] = -1;
+    for (long j = 0; j < n; j++)
+        for (sunindextype k = ptr[j]; k < ptr[j + 1]; k++) {
+            if (idx[k] < 0 || idx[k] >= n) {
+                why(s, "sparse Jacobian at p = %.10g: row index %ld out of range "
+                    "(column %ld, entry %ld)", p, (long)idx[k], j, (long)k);
+                return -1;
+            }
+            if (s->stamp[idx[k]] == j) {
+                why(s, "sparse Jacobian at p = %.10g: duplicate entry (%ld, %ld)",
+                    p, (long)idx[k], j);
+                return -1;
+            }
+            s->stamp[idx[k]] = j;
         }
     if (!all_finite(SM_DATA_S(J), (long)ptr[n])) {
         why(s, "sparse Jacobian at p = %.10g has a non-finite entry", p);
@@ -906,6 +916,7 @@ void cont_free(cont_solver *s)
     free(s->cw);
     free(s->w1);
     free(s->mark);
+    free(s->stamp);
     free(s->yscale_copy);
     free(s->fscale_copy);
     free(s->labels);
@@ -980,8 +991,9 @@ int cont_create(const cont_problem *prob, int linsol, cont_solver **out)
     s->cw = calloc((size_t)m, sizeof(double));
     s->w1 = calloc((size_t)m, sizeof(double));
     s->mark = calloc((size_t)m + 2, 1);
+    s->stamp = calloc((size_t)n, sizeof(long));
     if (!s->u || !s->uscale || !s->fscale || !s->vx || !s->vb || !s->Fp || !s->bc ||
-        !s->bxa || !s->cw || !s->w1 || !s->mark)
+        !s->bxa || !s->cw || !s->w1 || !s->mark || !s->stamp)
         return fail(s, CONT_ENOMEM, "out of memory (n = %ld)", n);
     N_VConst(1.0, s->uscale);
     N_VConst(1.0, s->fscale);
@@ -1430,9 +1442,15 @@ static int land(cont_solver *s, const cpt *b, const cpt *x1, double pb, cpt **re
         }
     }
     if (r == 0) {
+        q->h = dotw(s, b->t, q->x) - dotw(s, b->t, b->x);
+        /* the solution at p = pb must lie within the step, not on another
+         * part of the solution set */
+        if (!(q->h >= -1e-9 * x1->h && q->h <= 2.0 * x1->h)) r = -1;
+    }
+    if (r == 0) {
         q->pub.newton_iters = nit;
         q->pub.resnorm = fn;
-        q->h = dotw(s, b->t, q->x) - dotw(s, b->t, b->x);
+        q->pub.ds = q->h;
         *res = q;
         return 0;
     }

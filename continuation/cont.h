@@ -59,7 +59,10 @@
  *
  * Stop rules.  (1) p leaves [p_min, p_max]: the engine solves F(y, p_b) = 0
  * at the boundary value p_b itself (Newton at fixed p from the chord
- * interpolation), so the last point lies exactly on p_b; label "EP".
+ * interpolation), so the last point lies exactly on p_b; label "EP".  (If
+ * that Newton solve fails, e.g. because Jy is singular at p_b, the crossing
+ * of p = p_b is located on the branch like a test-function zero instead, and
+ * p is then within about loc_tol of p_b.)
  * (2) max_steps accepted steps.  (3) arclength s_max reached (the last step is
  * shortened to land on it).  (4) the point callback asks to stop.  Every
  * terminal point is labelled "EP" (end point, AUTO's convention); the reason
@@ -207,7 +210,8 @@ typedef int (*cont_residual_fn)(const double *y, double p, double *F,
  * zeroes Jy (for sparse: data, row indices and column pointers) and Fp before
  * every call, so the user fills the whole structure each time.  A sparse Jy
  * may be enlarged with SUNSparseMatrix_Reallocate; the pattern may change
- * between calls (KLU then re-analyses).  Return 0 on success. */
+ * between calls (KLU then re-analyses).  Row indices within a column may
+ * be unsorted; duplicate entries are refused.  Return 0 on success. */
 typedef int (*cont_jacobian_fn)(const double *y, double p, SUNMatrix Jy,
                                 double *Fp, void *user);
 

@@ -152,8 +152,3 @@ int sf_cmd_shape(const sf_options *o, sf_error *err)
     return rc;
 }
 
-int sf_cmd_run(const sf_options *o, sf_error *err)
-{
-    (void)o;
-    return sf_fail(err, SF_EINPUT, "run: not available yet");
-}

@@ -662,6 +662,28 @@ static int loop_chain(const sf_model *m, const sf_kin *k, int v, int order, chai
     return chain_build(m, k, iv->degree, iv->folds, iv->sign, order, c);
 }
 
+/* The loop product measured about the vertex o (origin moved to o):
+ * translation t + (R - I) o; for a derivative map (deriv = 1) dt + dR o. */
+static void about_vertex(const double L[12], const double o[2], int deriv, double out[12])
+{
+    memcpy(out, L, sizeof(double) * 12);
+    for (int r = 0; r < 3; r++) {
+        out[4 * r + 3] += L[4 * r] * o[0] + L[4 * r + 1] * o[1];
+        if (!deriv && r < 2) out[4 * r + 3] -= o[r];
+    }
+}
+
+/* Weights on the entries of L equivalent to weights W on the entries of
+ * about_vertex(L): the translation weights also act on R times o. */
+static void weights_about_vertex(const double W[12], const double o[2], double Wl[12])
+{
+    memcpy(Wl, W, sizeof(double) * 12);
+    for (int r = 0; r < 3; r++) {
+        Wl[4 * r] += W[4 * r + 3] * o[0];
+        Wl[4 * r + 1] += W[4 * r + 3] * o[1];
+    }
+}
+
 /* Constraint values of a loop product: axial vector of (R - R^T)/2, then t. */
 static void loop_g(const double L[12], double g[6])
 {
@@ -692,18 +714,23 @@ void sf_constraints(const sf_model *m, const sf_kin *k, double *g, double *J,
         int order = (lambda && H) ? 2 : J ? 1 : 0;
         chain c;
         if (loop_chain(m, k, v, order, &c)) { chain_free(&c); continue; }
-        if (g) loop_g(c.L, g + 6 * v);
+        const double *o = m->study->vertices[m->topo->ivertices[v].vertex].x;
+        double Lv[12];
+        about_vertex(c.L, o, 0, Lv);
+        if (g) loop_g(Lv, g + 6 * v);
         if (J)
             for (int r = 0; r < c.n; r++) {
-                double D[12], dg[6];
+                double D[12], Dv[12], dg[6];
                 chain_d1(&c, r, D);
-                loop_g(D, dg);
+                about_vertex(D, o, 1, Dv);
+                loop_g(Dv, dg);
                 for (int e = 0; e < 6; e++) J[(size_t)(6 * v + e) * nq + c.coord[r]] += dg[e];
             }
         if (lambda && H) {
-            double W[12];
+            double W[12], Wl[12];
             loop_weights(lambda + 6 * v, W);
-            chain_hess_add(&c, W, H, ld);
+            weights_about_vertex(W, o, Wl);
+            chain_hess_add(&c, Wl, H, ld);
         }
         chain_free(&c);
     }
@@ -720,16 +747,23 @@ double sf_penalty(const sf_model *m, const sf_kin *k, double lR, double ld,
         int order = H ? 2 : grad ? 1 : 0;
         chain c;
         if (loop_chain(m, k, v, order, &c)) { chain_free(&c); continue; }
+        const double *o = m->study->vertices[m->topo->ivertices[v].vertex].x;
+        double Lv[12];
+        about_vertex(c.L, o, 0, Lv);
         double W[12] = {0};
         for (int e = 0; e < 3; e++) {
-            E += 0.5 * lR * c.L[rot[e]] * c.L[rot[e]] + 0.5 * ld * c.L[tra[e]] * c.L[tra[e]];
-            W[rot[e]] = lR * c.L[rot[e]];
-            W[tra[e]] = ld * c.L[tra[e]];
+            E += 0.5 * lR * Lv[rot[e]] * Lv[rot[e]] + 0.5 * ld * Lv[tra[e]] * Lv[tra[e]];
+            W[rot[e]] = lR * Lv[rot[e]];
+            W[tra[e]] = ld * Lv[tra[e]];
         }
         if (grad || H) {
             double *D = malloc(sizeof(double) * 12 * (c.n + 1));
             if (!D) { chain_free(&c); continue; }
-            for (int r = 0; r < c.n; r++) chain_d1(&c, r, D + 12 * r);
+            for (int r = 0; r < c.n; r++) {
+                double Dr[12];
+                chain_d1(&c, r, Dr);
+                about_vertex(Dr, o, 1, D + 12 * r);
+            }
             if (grad)
                 for (int r = 0; r < c.n; r++) {
                     double val = 0.0;
@@ -745,7 +779,9 @@ double sf_penalty(const sf_model *m, const sf_kin *k, double lR, double ld,
                                    ld * D[12 * r + tra[e]] * D[12 * s + tra[e]];
                         H[(size_t)c.coord[r] * ldh + c.coord[s]] += val;
                     }
-                chain_hess_add(&c, W, H, ldh);
+                double Wl[12];
+                weights_about_vertex(W, o, Wl);
+                chain_hess_add(&c, Wl, H, ldh);
             }
             free(D);
         }

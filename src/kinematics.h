@@ -80,7 +80,10 @@ void sf_fold_centroid(const sf_model *m, const sf_kin *k, int fold,
                       double x[3], double *dx, const double *f, double *H,
                       int ld);
 
-/* Loop constraints, 6 per interior vertex: g[ncon]; J (ncon x nq,
+/* Loop constraints, 6 per interior vertex: the axial vector of (R - R^T)/2
+ * and the translation of the loop product, measured about the vertex (so
+ * that a translation mismatch does not depend on where the origin is):
+ * g[ncon]; J (ncon x nq,
  * row-major J[c*nq + j]) when not NULL; when lambda and H are not NULL,
  * adds sum_c lambda_c d2g_c/dq dq to H.  Needs the order asked for. */
 void sf_constraints(const sf_model *m, const sf_kin *k, double *g, double *J,

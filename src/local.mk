@@ -10,3 +10,5 @@ src_libsmoothfold_a_SOURCES += src/shape.c src/shape.h src/kinematics.c src/kine
 src_libsmoothfold_a_SOURCES += src/vtk.c src/vtk.h src/scene.c src/scene.h
 src_smoothfold_SOURCES += src/commands.c src/commands.h
 src_libsmoothfold_a_SOURCES += src/energy.c src/energy.h
+src_libsmoothfold_a_SOURCES += src/equilibrium.c src/equilibrium.h
+src_smoothfold_SOURCES += src/run.c

@@ -131,7 +131,10 @@ static const sf_study_key schema[] = {
 
     {"analysis",                   G,     AUTO,           0, 0,       NULL,          NULL, "-", "what to compute"},
     {"analysis.type",              STR,   0,              0, 0,       "equilibrium", "equilibrium|dynamics|none", "-", "equilibrium path, dynamic trajectory, or nothing"},
-    {"analysis.parameter",         STR,   0,              0, 0,       "load",        "load|actuation", "-", "the parameter p that is varied"},
+    {"analysis.parameter",         STR,   0,              0, 0,       "load",        "load|actuation|displacement", "-", "the parameter p that is varied: load factor, rest angle of an actuation group [rad], or prescribed displacement of a probe [m]"},
+    {"analysis.load",              NUM,   NONNEG,         0, 0,       "0.0",         NULL, "-", "load factor held fixed when p is not the load"},
+    {"analysis.probe",             STR,   0,              0, 0,       NULL,          NULL, "-", "displacement parameter: the probe whose displacement is prescribed (default: the first probe)"},
+    {"analysis.component",         STR,   0,              0, 0,       "z",           "x|y|z", "-", "displacement parameter: the component prescribed"},
     {"analysis.group",             STR,   0,              0, 0,       "",            NULL, "-", "actuation group driven by p (\"\": all groups)"},
     {"analysis.start",             NUM,   0,              0, 0,       "0.0",         NULL, "-", "first value of p"},
     {"analysis.end",               NUM,   0,              0, 0,       NULL,          NULL, "-", "last value of p (default: number of load stages for load, 1 for actuation)"},
@@ -811,10 +814,8 @@ static void trim(char *t)
     if (i) memmove(t, t + i, n - i + 1);
 }
 
-static int apply_set(sf_study *s, config_t *cfg, const char *text,
-                     sf_error *err)
+static int apply_set(config_t *cfg, const char *text, sf_error *err)
 {
-    (void)s;
     char key[512], val[4096], shown[4700], msg[1024];
     const char *eq = strchr(text, '=');
     if (!eq)
@@ -1205,7 +1206,6 @@ static int fill(sf_study *s, config_t *cfg, sf_error *err)
 {
     const config_setting_t *root = config_root_setting(cfg);
     char h[200];
-    int rc;
 
     copy_name(s->name, mem(root, "name")->value.sval);
 
@@ -1512,8 +1512,7 @@ static int fill(sf_study *s, config_t *cfg, sf_error *err)
                 return bad(s, err, mse, "missing density (required when %s is on)", s->gravity_on ? "gravity" : "inertia");
         }
     }
-    rc = SF_OK;
-    return rc;
+    return SF_OK;
 #undef VIDX
 #undef VSUG
 #undef MIDX
@@ -1712,7 +1711,7 @@ int sf_study_load(const char *path, int nset, const char *const *sets,
     }
 
     for (int i = 0; i < nset; i++) {
-        rc = apply_set(s, cfg, sets[i], err);
+        rc = apply_set(cfg, sets[i], err);
         if (rc) { sf_study_free(s); return rc; }
     }
 
@@ -1876,6 +1875,48 @@ static void w_top(FILE *f, const config_setting_t *st)
     }
 }
 
+static void w_body(FILE *f, const config_setting_t *root)
+{
+    int n = config_setting_length(root);
+    for (int i = 0; i < n; i++) {
+        const config_setting_t *m = config_setting_get_elem(root, (unsigned)i);
+        if (i && (config_setting_is_aggregate(m) || config_setting_is_aggregate(config_setting_get_elem(root, (unsigned)i - 1))))
+            fputc('\n', f);
+        w_top(f, m);
+    }
+}
+
+int sf_study_print(const sf_study *s, FILE *f, const char *prefix,
+                   sf_error *err)
+{
+    if (!s || !s->cfg) return sf_fail(err, SF_EINTERNAL, "sf_study_print: no study");
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *m = open_memstream(&buf, &len);
+    if (!m) return sf_fail(err, SF_ENOMEM, "out of memory");
+    w_body(m, config_root_setting((config_t *)s->cfg));
+    if (fclose(m) != 0 || !buf) {
+        free(buf);
+        return sf_fail(err, SF_ENOMEM, "out of memory");
+    }
+    if (!prefix) prefix = "";
+    for (const char *p = buf; *p;) {
+        size_t l = strcspn(p, "\n");
+        if (l == 0) {   /* no trailing blanks after the prefix */
+            size_t lp = strlen(prefix);
+            while (lp && prefix[lp - 1] == ' ') lp--;
+            fprintf(f, "%.*s\n", (int)lp, prefix);
+        } else {
+            fprintf(f, "%s%.*s\n", prefix, (int)l, p);
+        }
+        p += l;
+        if (*p == '\n') p++;
+    }
+    free(buf);
+    if (ferror(f)) return sf_fail(err, SF_EIO, "cannot write the study: %s", strerror(errno));
+    return SF_OK;
+}
+
 int sf_study_write(const sf_study *s, const char *path,
                    const char *header_comment, sf_error *err)
 {
@@ -1899,14 +1940,7 @@ int sf_study_write(const sf_study *s, const char *path,
             if (*p == '\n') p++;
         }
     }
-    const config_setting_t *root = config_root_setting((config_t *)s->cfg);
-    int n = config_setting_length(root);
-    for (int i = 0; i < n; i++) {
-        const config_setting_t *m = config_setting_get_elem(root, (unsigned)i);
-        if (i && (config_setting_is_aggregate(m) || config_setting_is_aggregate(config_setting_get_elem(root, (unsigned)i - 1))))
-            fputc('\n', f);
-        w_top(f, m);
-    }
+    w_body(f, config_root_setting((config_t *)s->cfg));
     int bad_write = ferror(f);
     if (fclose(f) != 0) bad_write = 1;
     if (bad_write) {

@@ -21,6 +21,7 @@
 #define SF_STUDY_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #include "pattern.h"
 #include "sf_error.h"
@@ -88,6 +89,11 @@ void sf_study_free(sf_study *s);
  * trailing "# --set ..." comment.  Written to "<path>.tmp", then renamed. */
 int sf_study_write(const sf_study *s, const char *path,
                    const char *header_comment, sf_error *err);
+
+/* The same merged study into an open stream, every line starting with
+ * prefix (e.g. "# " to echo it in an output file's header). */
+int sf_study_print(const sf_study *s, FILE *f, const char *prefix,
+                   sf_error *err);
 
 /* ---- accessors for analysis modules -------------------------------------
  * path must be in the schema (else SF_EINTERNAL: add it to the table in

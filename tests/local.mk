@@ -20,3 +20,5 @@ tests_test_kinematics_LDADD = $(SF_TEST_LIBS)
 # broken studies and their messages, through the program
 TESTS += tests/test_bad_input.sh
 EXTRA_DIST += tests/test_bad_input.sh
+TESTS += tests/test_vtk.sh
+EXTRA_DIST += tests/test_vtk.sh

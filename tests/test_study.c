@@ -297,6 +297,7 @@ static void check_square4(const sq4 *c)
         int shortend = t == 2 || t == 4 || t == 6 || t == 9 || t == 12 || t == 15 || t == 17 || t == 19;
         CHECK_EQ_D(f->setback[1], shortend ? 0.04 : 0.08, b);
     }
+    CHECK_EQ_I(s.noutline, c->irregular ? 16 : 4, "outline vertices");
     if (c->irregular) {
         CHECK_EQ_D(s.vertices[vidx(&s, "v1")].x[0], -0.5, "v1 x");
         CHECK_EQ_D(s.vertices[vidx(&s, "v20")].x[1], 0.5, "v20 y");
@@ -552,6 +553,28 @@ static void roundtrip(const char *rel, int nset, const char *const *sets)
     sf_study_free(&a);
     sf_study_free(&b);
     remove(out);
+}
+
+/* sf_study_print echoes the merged study as comments. */
+static void test_print(void **state)
+{
+    (void)state;
+    sf_study s;
+    sf_error e;
+    const char *sets[] = {"defaults.width=0.02"};
+    CHECK_OK(load("studies/fold1.cfg", 1, sets, &s, &e), e);
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    assert_non_null(f);
+    CHECK_OK(sf_study_print(&s, f, "# ", &e), e);
+    fclose(f);
+    assert_true(strncmp(buf, "# name = \"fold1\";\n", strlen("# name = \"fold1\";\n")) == 0);
+    CHECK_CONTAINS(buf, "\n#   width = 0.02;  # --set defaults.width=0.02\n");
+    CHECK_CONTAINS(buf, "\n#\n");
+    for (const char *p = buf; *p; p = strchr(p, '\n') + 1) assert_true(p[0] == '#');
+    free(buf);
+    sf_study_free(&s);
 }
 
 static void test_write_roundtrip(void **state)
@@ -832,6 +855,7 @@ int main(void)
         cmocka_unit_test(test_set_overrides),
         cmocka_unit_test(test_set_errors),
         cmocka_unit_test(test_write_roundtrip),
+        cmocka_unit_test(test_print),
         cmocka_unit_test(test_accessors),
         cmocka_unit_test(test_dynamics_checks),
         cmocka_unit_test(test_missing_file),

@@ -1,0 +1,76 @@
+/* equilibrium.h - the equilibrium problem F(y; p) = 0 of MODEL.md 6 for the
+ * continuation engine.
+ *
+ * Unknowns y = (q, lambda): generalised coordinates, then one multiplier
+ * per constraint row: the loop rows (6 per interior vertex, exact mode
+ * only), the support rows, and the prescribed-displacement row when the
+ * parameter is a displacement.
+ *   F = [ grad Pi(q; p) + J^T lambda ;  g(q; p) ]
+ *   dF/dy = [ H + sum_c lambda_c hess g_c ,  J^T ;  J , -eps D ]
+ * The -eps D block (eps = 1e-10, D the row scales) only enters the
+ * Jacobian, never the residual, so solutions satisfy g = 0 exactly: it
+ * keeps the Newton matrix regular where loop rows are redundant (at the
+ * flat state the rotation about the normal and the in-plane translation
+ * of every vertex loop are of second order in the fold angles).
+ *
+ * Parameter p: "load" (load factor; stage k of the study ramps over
+ * p in [k-1, k]), "actuation" (factor on the rest angles of the driven
+ * groups: theta0 = p * rest_angle of the group; group -1 drives all),
+ * "displacement" (prescribed displacement [m] of one component of a probe
+ * point).
+ */
+#ifndef SF_EQUILIBRIUM_H
+#define SF_EQUILIBRIUM_H
+
+#include <sundials/sundials_matrix.h>
+
+#include "energy.h"
+#include "kinematics.h"
+#include "sf_error.h"
+
+enum { SF_PARAM_LOAD = 0, SF_PARAM_ACTUATION = 1, SF_PARAM_DISPLACEMENT = 2 };
+
+typedef struct sf_equil {
+    const sf_model *m;
+    sf_energy e;
+    sf_params par;
+    sf_kin k;
+    int param;            /* SF_PARAM_* */
+    int group;            /* actuated group (actuation) */
+    double load;          /* load parameter value when p is not the load */
+    int exact;            /* loop rows enforced by multipliers */
+    int nq, nloop, nsup, ncon, n;
+    /* support and displacement rows: point, component, prescribed value */
+    sf_mpoint *rowpt;
+    int *rowc;
+    double *rowval;
+    int disp_row;         /* index among the support rows, -1 if none */
+    double kref, lref;    /* reference stiffness [J] and length [m] */
+    double *yscale, *fscale;
+    /* scratch */
+    double *grad, *H, *gp, *g, *J, *dx;
+    long nres, njac;
+} sf_equil;
+
+int sf_equil_init(sf_equil *q, const sf_model *m, int param, int group,
+                  int probe, int component, double load, sf_error *err);
+void sf_equil_free(sf_equil *q);
+
+/* Switch the loop rows to the paper's penalty (weights lR [J], ld [J/m^2]):
+ * the unknowns become (q, support multipliers).  Used for penalty studies
+ * and for the penalty homotopy that starts exact paths off the flat state. */
+void sf_equil_use_penalty(sf_equil *q, double lR, double ld);
+
+/* Parameter values for p (load factors, rest angles and their derivatives). */
+void sf_equil_set_param(sf_equil *q, double p);
+
+/* Callbacks for cont_problem (user = sf_equil *). */
+int sf_equil_residual(const double *y, double p, double *F, void *user);
+int sf_equil_jacobian(const double *y, double p, SUNMatrix Jy, double *Fp, void *user);
+
+/* Quantities of a solved point: energy Pi, max |loop residual| (rotation
+ * rows and translation rows [m] separately). */
+void sf_equil_report(sf_equil *q, const double *y, double p, double *Pi,
+                     double *res_rot, double *res_tra);
+
+#endif
