@@ -3,6 +3,9 @@
 #include "commands.h"
 
 #include <errno.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -152,3 +155,47 @@ int sf_cmd_shape(const sf_options *o, sf_error *err)
     return rc;
 }
 
+
+#ifndef SF_SRCDIR
+#define SF_SRCDIR "."
+#endif
+
+extern char **environ;
+
+/* gnuplot -c SCRIPT DIR; the scripts live in plots/ of the source tree
+ * (or where SMOOTHFOLD_PLOTS points). */
+static int run_gnuplot(const char *script, const char *dir, sf_error *err)
+{
+    char *argv[] = {"gnuplot", "-c", (char *)script, (char *)dir, NULL};
+    pid_t pid;
+    int rc = posix_spawnp(&pid, "gnuplot", NULL, NULL, argv, environ);
+    if (rc != 0)
+        return sf_fail(err, SF_EIO, "plot: cannot run gnuplot (%s); install it with "
+                       "apt-get install gnuplot-nox", strerror(rc));
+    int status;
+    if (waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        return sf_fail(err, SF_EIO, "plot: gnuplot failed on %s", script);
+    return SF_OK;
+}
+
+int sf_cmd_plot(const char *dir, sf_error *err)
+{
+    char branch[1200], pdir[1024], script[1200];
+    struct stat st;
+    snprintf(branch, sizeof branch, "%s/branch.tsv", dir);
+    if (stat(branch, &st) != 0)
+        return sf_fail(err, SF_EIO, "plot: %s: no such file (run `smoothfold run STUDY.cfg -o %s` "
+                       "first)", branch, dir);
+    const char *env = getenv("SMOOTHFOLD_PLOTS");
+    snprintf(pdir, sizeof pdir, "%s", env && env[0] ? env : SF_SRCDIR "/plots");
+    const char *scripts[] = {"path.gp", "angles.gp"};
+    for (size_t i = 0; i < sizeof scripts / sizeof *scripts; i++) {
+        snprintf(script, sizeof script, "%s/%s", pdir, scripts[i]);
+        if (stat(script, &st) != 0)
+            return sf_fail(err, SF_EIO, "plot: %s not found (set SMOOTHFOLD_PLOTS to the plots/ "
+                           "directory)", script);
+        if (run_gnuplot(script, dir, err)) return err->code;
+    }
+    printf("wrote %s/path.png, path.pdf, angles.png, angles.pdf\n", dir);
+    return SF_OK;
+}

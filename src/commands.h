@@ -17,5 +17,7 @@ typedef struct sf_options {
 int sf_cmd_check(const sf_options *o, sf_error *err);
 int sf_cmd_shape(const sf_options *o, sf_error *err);
 int sf_cmd_run(const sf_options *o, sf_error *err);
+/* Run the gnuplot scripts of plots/ on a run directory. */
+int sf_cmd_plot(const char *dir, sf_error *err);
 
 #endif

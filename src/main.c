@@ -29,6 +29,8 @@ static const char *usage_text =
     "  shape STUDY.cfg -o F    write the 3-D shape for given fold angles as VTK\n"
     "                          (.vtp, XML PolyData; default: the flat sheet)\n"
     "  run STUDY.cfg -o DIR    run the study's analysis, write results to DIR\n"
+    "  plot DIR                draw the diagrams of a run's results (gnuplot;\n"
+    "                          PNG and PDF in DIR)\n"
     "\n"
     "Options:\n"
     "  -o, --output=PATH       output file (shape) or directory (run)\n"
@@ -105,6 +107,16 @@ int main(int argc, char **argv)
         }
     }
     opt.sets = sets;
+    if (optind + 2 == argc && strcmp(argv[optind], "plot") == 0) {
+        free(sets);
+        sf_error err;
+        sf_error_clear(&err);
+        if (sf_cmd_plot(argv[optind + 1], &err) != SF_OK) {
+            fprintf(stderr, "smoothfold: %s\n", err.msg);
+            return exit_code(err.code);
+        }
+        return 0;
+    }
     if (optind + 2 != argc) {
         free(sets);
         return fail_usage(optind >= argc ? "missing command" : "expected COMMAND STUDY.cfg");
@@ -123,7 +135,7 @@ int main(int argc, char **argv)
     else {
         free(sets);
         char msg[256];
-        snprintf(msg, sizeof msg, "unknown command '%s' (commands: check, shape, run)", cmd);
+        snprintf(msg, sizeof msg, "unknown command '%s' (commands: check, shape, run, plot)", cmd);
         return fail_usage(msg);
     }
     free(sets);

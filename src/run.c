@@ -356,8 +356,10 @@ static int run_equilibrium(run_ctx *r)
     free(y0);
     if (rc != CONT_OK) {
         if (r->failed) return err->code;
-        return sf_fail(err, SF_ENUMERIC, "%s: no equilibrium at the start (p = %g): %s", s->path,
-                       start, cont_errmsg(cs));
+        return sf_fail(err, SF_ENUMERIC, "%s: no equilibrium at the start of the path: %s%s",
+                       s->path, cont_errmsg(cs),
+                       eq->nloop ? " (exact loop closure: the KKT matrix may be singular here; "
+                                   "solver.constraints = \"penalty\" is the paper's method)" : "");
     }
     rc = cont_run(cs);
     if (r->failed) return err->code;
@@ -446,7 +448,17 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
         sb_printf(&r.header, "# smoothfold %s: %s, analysis %s\n", PACKAGE_VERSION,
                   sc.study.name, sc.study.analysis_type);
         rc = run_equilibrium(&r);
-        if (!rc) rc = write_outputs(&r);
+        if (rc == SF_ENUMERIC && r.npoints > 0) {
+            /* keep the path up to where it stopped: complete files whose
+             * header says why it stopped; the exit status stays non-zero */
+            sb_printf(&r.header, "# STOPPED EARLY: %s\n", err->msg);
+            sf_error keep = *err;
+            sf_error_clear(err);
+            if (write_outputs(&r) == SF_OK) *err = keep;
+            rc = err->code;
+        } else if (!rc) {
+            rc = write_outputs(&r);
+        }
     }
     if (!rc && !o->quiet) {
         cont_stats tot;
