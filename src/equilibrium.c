@@ -153,8 +153,8 @@ void sf_equil_set_param(sf_equil *q, double p)
         double x = lp - k;
         double lo = k == 0 ? -INFINITY : 0.0, hi = k == ns - 1 ? INFINITY : 1.0;
         q->par.stage[k] = x <= lo ? lo : x >= hi ? hi : x;
-        int ramping = x > lo && (x < hi || (k == ns - 1));
-        if (k == 0 && x <= 0) ramping = 1;
+        /* right derivative at the stage boundaries */
+        int ramping = x >= lo && (x < hi || k == ns - 1);
         q->par.dstage[k] = (q->param == SF_PARAM_LOAD && ramping) ? 1.0 : 0.0;
     }
     for (int i = 0; i < q->m->nfolds; i++) {
@@ -264,9 +264,9 @@ int sf_equil_jacobian(const double *y, double p, SUNMatrix Jy, double *Fp, void 
         }
     }
     for (int r = 0; r < q->ncon; r++) {
-        /* regularisation of the multiplier block, in row units */
-        double D = q->yscale[nq + r] * q->fscale[nq + r];
-        A[(size_t)(nq + r) * ld + nq + r] = -REG_EPS / D;
+        /* regularisation of the multiplier block: -eps in the solver's
+         * scaled system (fscale A / yscale), so -eps yscale / fscale here */
+        A[(size_t)(nq + r) * ld + nq + r] = -REG_EPS * q->yscale[nq + r] / q->fscale[nq + r];
     }
     memset(Fp, 0, sizeof(double) * n);
     memcpy(Fp, q->gp, sizeof(double) * nq);

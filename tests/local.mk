@@ -22,3 +22,4 @@ TESTS += tests/test_bad_input.sh
 EXTRA_DIST += tests/test_bad_input.sh
 TESTS += tests/test_vtk.sh
 EXTRA_DIST += tests/test_vtk.sh
+include tests/equilibrium.mk

@@ -1,0 +1,10 @@
+# energy and equilibrium residual/Jacobian against finite differences and
+# closed forms; whole paths against the reference data in ../shared/data
+check_PROGRAMS += tests/test_energy tests/test_validation
+TESTS += tests/test_energy tests/test_validation
+tests_test_energy_SOURCES = tests/test_energy.c
+tests_test_energy_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_energy_LDADD = $(SF_TEST_LIBS)
+tests_test_validation_SOURCES = tests/test_validation.c
+tests_test_validation_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_validation_LDADD = $(SF_TEST_LIBS)
