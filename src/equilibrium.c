@@ -7,6 +7,8 @@
 
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include "cont.h"
+
 #define REG_EPS 1e-10
 
 static void sf_equil_scales(sf_equil *q);
@@ -293,4 +295,75 @@ void sf_equil_report(sf_equil *q, const double *y, double p, double *Pi,
     }
     *res_rot = rr;
     *res_tra = rt;
+}
+
+int sf_equil_create_solver(sf_equil *q, cont_solver **out)
+{
+    cont_problem prob;
+    memset(&prob, 0, sizeof prob);
+    prob.n = q->n;
+    prob.residual = sf_equil_residual;
+    prob.jacobian = sf_equil_jacobian;
+    prob.jac_matrix = CONT_MATRIX_DENSE;
+    prob.yscale = q->yscale;
+    prob.fscale = q->fscale;
+    prob.user = q;
+    *out = NULL;
+    return cont_create(&prob, CONT_LINSOL_DENSE, out);
+}
+
+int sf_equil_start_off_flat(sf_equil *q, double p1, double tol, double *y, sf_error *err)
+{
+    const sf_model *m = q->m;
+    if (q->disp_row >= 0)
+        return sf_fail(err, SF_EINPUT, "%s: a displacement parameter with exact loop constraints "
+                       "cannot start at the flat state; start from p != 0", m->study->path);
+    sf_equil pen;
+    if (sf_equil_init(&pen, m, q->param, q->group, 0, 0, q->load, err)) return err->code;
+    double *yp = calloc((size_t)pen.n + 1, sizeof(double));
+    double *ytry = calloc((size_t)pen.n + 1, sizeof(double));
+    cont_solver *ps = NULL;
+    int levels = 0;
+    int rc = (yp && ytry) ? SF_OK : sf_fail(err, SF_ENOMEM, "out of memory");
+    double lR = 0, ld = 0;
+    for (double k = 1e2; !rc && k <= 1e8 * 1.0001; k *= 100.0) {
+        lR = k * q->kref;
+        ld = k * q->kref / (q->lref * q->lref);
+        sf_equil_use_penalty(&pen, lR, ld);
+        if (ps) cont_free(ps);
+        ps = NULL;
+        if (sf_equil_create_solver(&pen, &ps) != CONT_OK) {
+            rc = sf_fail(err, SF_ENOMEM, "continuation: cannot create the start solver");
+            break;
+        }
+        cont_set_newton(ps, tol, 50, 1);
+        cont_set_newton_init(ps, 200, 1);
+        memcpy(ytry, yp, sizeof(double) * pen.n);
+        if (cont_solve_fixed(ps, ytry, p1) != CONT_OK) {
+            /* a stiffer penalty did not converge: keep the last solution */
+            if (levels > 0) {
+                lR /= 100.0;
+                ld /= 100.0;
+                break;
+            }
+            rc = sf_fail(err, SF_ENUMERIC, "%s: cannot start the path off the flat state: the "
+                         "penalty problem at p = %g with lambda_R = %g J does not converge (%s)",
+                         m->study->path, p1, lR, cont_errmsg(ps));
+        } else {
+            memcpy(yp, ytry, sizeof(double) * pen.n);
+            levels++;
+        }
+    }
+    if (!rc) {
+        memcpy(y, yp, sizeof(double) * q->nq);
+        sf_kin_eval(m, yp, 0, &q->k);
+        sf_constraints(m, &q->k, q->g, NULL, NULL, NULL, 0);
+        for (int c = 0; c < q->nloop; c++) y[q->nq + c] = (c % 6 < 3 ? lR : ld) * q->g[c];
+        for (int c = 0; c < q->nsup; c++) y[q->nq + q->nloop + c] = yp[pen.nq + c];
+    }
+    if (ps) cont_free(ps);
+    free(yp);
+    free(ytry);
+    sf_equil_free(&pen);
+    return rc;
 }

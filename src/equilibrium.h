@@ -61,6 +61,17 @@ void sf_equil_free(sf_equil *q);
  * and for the penalty homotopy that starts exact paths off the flat state. */
 void sf_equil_use_penalty(sf_equil *q, double lR, double ld);
 
+/* A continuation solver (dense) for this problem. */
+struct cont_solver;
+int sf_equil_create_solver(sf_equil *q, struct cont_solver **out);
+
+/* Start of an exact path off the flat state, which is a singular point of
+ * loop closure: solve the penalty problem at p1 with stiffness raised by
+ * 100 per stage from 1e2 to 1e8 times the fold stiffness (keeping the last
+ * level that converged), then estimate the multipliers as penalty forces
+ * (lambda = k g).  Writes y = (q, lambda) for the exact problem. */
+int sf_equil_start_off_flat(sf_equil *q, double p1, double tol, double *y, sf_error *err);
+
 /* Parameter values for p (load factors, rest angles and their derivatives). */
 void sf_equil_set_param(sf_equil *q, double p);
 

@@ -183,79 +183,6 @@ static int component_index(const char *c)
     return strcmp(c, "x") == 0 ? 0 : strcmp(c, "y") == 0 ? 1 : 2;
 }
 
-/* Start of an exact path off the flat state: solve the penalty problem at
- * p1 with stiffness raised by 100 per stage up to 1e8 times the fold
- * stiffness, then estimate the multipliers as penalty forces (lambda = k g)
- * and return y = (q, lambda) for the exact problem. */
-static int penalty_homotopy(run_ctx *r, double p1, double *y)
-{
-    sf_equil *eq = &r->eq;
-    sf_error *err = r->err;
-    const sf_model *m = eq->m;
-    sf_equil pen;
-    if (sf_equil_init(&pen, m, eq->param, eq->group, 0, 0, eq->load, err)) return err->code;
-    if (eq->disp_row >= 0) {
-        sf_equil_free(&pen);
-        return sf_fail(err, SF_EINPUT, "%s: a displacement parameter with exact loop constraints "
-                       "cannot start at the flat state; start from p != 0", m->study->path);
-    }
-    double *yp = calloc((size_t)pen.n + 1, sizeof(double));
-    double *ytry = calloc((size_t)pen.n + 1, sizeof(double));
-    cont_solver *ps = NULL;
-    int levels = 0;
-    int rc = (yp && ytry) ? SF_OK : sf_fail(err, SF_ENOMEM, "out of memory");
-    double lR = 0, ld = 0;
-    for (double k = 1e2; !rc && k <= 1e8 * 1.0001; k *= 100.0) {
-        lR = k * eq->kref;
-        ld = k * eq->kref / (eq->lref * eq->lref);
-        sf_equil_use_penalty(&pen, lR, ld);
-        cont_problem prob;
-        memset(&prob, 0, sizeof prob);
-        prob.n = pen.n;
-        prob.residual = sf_equil_residual;
-        prob.jacobian = sf_equil_jacobian;
-        prob.jac_matrix = CONT_MATRIX_DENSE;
-        prob.yscale = pen.yscale;
-        prob.fscale = pen.fscale;
-        prob.user = &pen;
-        if (ps) cont_free(ps);
-        ps = NULL;
-        if (cont_create(&prob, CONT_LINSOL_DENSE, &ps) != CONT_OK) {
-            rc = sf_fail(err, SF_ENOMEM, "continuation: cannot create the start solver");
-            break;
-        }
-        cont_set_newton(ps, m->study->tolerance > 0 ? m->study->tolerance : 1e-10, 50, 1);
-        cont_set_newton_init(ps, 200, 1);
-        memcpy(ytry, yp, sizeof(double) * pen.n);
-        if (cont_solve_fixed(ps, ytry, p1) != CONT_OK) {
-            /* a stiffer penalty did not converge: keep the last solution */
-            if (levels > 0) {
-                lR = lR / 100.0;
-                ld = ld / 100.0;
-                break;
-            }
-            rc = sf_fail(err, SF_ENUMERIC, "%s: cannot start the path off the flat state: the "
-                         "penalty problem at p = %g with lambda_R = %g J does not converge (%s)",
-                         m->study->path, p1, lR, cont_errmsg(ps));
-        } else {
-            memcpy(yp, ytry, sizeof(double) * pen.n);
-            levels++;
-        }
-    }
-    if (!rc) {
-        memcpy(y, yp, sizeof(double) * eq->nq);
-        sf_kin_eval(m, yp, 0, &eq->k);
-        sf_constraints(m, &eq->k, eq->g, NULL, NULL, NULL, 0);
-        for (int c = 0; c < eq->nloop; c++) y[eq->nq + c] = (c % 6 < 3 ? lR : ld) * eq->g[c];
-        for (int c = 0; c < eq->nsup; c++) y[eq->nq + eq->nloop + c] = yp[pen.nq + c];
-    }
-    if (ps) cont_free(ps);
-    free(yp);
-    free(ytry);
-    sf_equil_free(&pen);
-    return rc;
-}
-
 static int run_equilibrium(run_ctx *r)
 {
     sf_scene *sc = r->sc;
@@ -296,16 +223,7 @@ static int run_equilibrium(run_ctx *r)
             return err->code;
         }
     /* the continuation engine sees only this problem */
-    cont_problem prob;
-    memset(&prob, 0, sizeof prob);
-    prob.n = eq->n;
-    prob.residual = sf_equil_residual;
-    prob.jacobian = sf_equil_jacobian;
-    prob.jac_matrix = CONT_MATRIX_DENSE;
-    prob.yscale = eq->yscale;
-    prob.fscale = eq->fscale;
-    prob.user = eq;
-    if (cont_create(&prob, CONT_LINSOL_DENSE, &r->solver) != CONT_OK)
+    if (sf_equil_create_solver(eq, &r->solver) != CONT_OK)
         return sf_fail(err, SF_ENOMEM, "continuation: %s",
                        r->solver ? cont_errmsg(r->solver) : "cannot create the solver");
     cont_solver *cs = r->solver;
@@ -344,7 +262,7 @@ static int run_equilibrium(run_ctx *r)
         on_point(&p0, r);
         if (r->failed) { free(y0); return err->code; }
         double p1 = start + dir * fmin(step, 0.25 * fabs(end - start));
-        rc = penalty_homotopy(r, p1, y0);
+        rc = sf_equil_start_off_flat(eq, p1, s->tolerance > 0 ? s->tolerance : 1e-10, y0, err);
         if (rc) { free(y0); return rc; }
         double d2 = (p1 - start) * (p1 - start);
         for (int i = 0; i < eq->n; i++) d2 += y0[i] * y0[i];

@@ -184,66 +184,18 @@ static int on_point(const cont_point *pt, void *data)
 
 static int make_solver(sf_equil *eq, cont_solver **out)
 {
-    cont_problem prob;
-    memset(&prob, 0, sizeof prob);
-    prob.n = eq->n;
-    prob.residual = sf_equil_residual;
-    prob.jacobian = sf_equil_jacobian;
-    prob.jac_matrix = CONT_MATRIX_DENSE;
-    prob.yscale = eq->yscale;
-    prob.fscale = eq->fscale;
-    prob.user = eq;
-    *out = NULL;
-    return cont_create(&prob, CONT_LINSOL_DENSE, out);
+    return sf_equil_create_solver(eq, out);
 }
 
-/* The start of an exact path off the flat state, as src/run.c makes it:
- * the penalty problem at p1 with the penalty raised by 100 per stage up to
- * 1e8 fold stiffnesses, multipliers estimated as penalty forces. */
+/* The start of an exact path off the flat state, the library's own. */
 static void penalty_homotopy(path *P, double p1, double *y)
 {
-    sf_equil *eq = &P->eq;
-    const sf_model *m = eq->m;
     sf_error err;
     sf_error_clear(&err);
-    sf_equil pen;
-    assert_int_equal(sf_equil_init(&pen, m, eq->param, eq->group, 0, 0, eq->load, &err), SF_OK);
-    double *yp = calloc((size_t)pen.n + 1, sizeof(double));
-    double *ytry = calloc((size_t)pen.n + 1, sizeof(double));
-    assert_true(yp && ytry);
-    cont_solver *ps = NULL;
-    int levels = 0;
-    double lR = 0, ld = 0;
-    for (double k = 1e2; k <= 1e8 * 1.0001; k *= 100.0) {
-        lR = k * eq->kref;
-        ld = k * eq->kref / (eq->lref * eq->lref);
-        sf_equil_use_penalty(&pen, lR, ld);
-        if (ps) cont_free(ps);
-        assert_int_equal(make_solver(&pen, &ps), CONT_OK);
-        cont_set_newton(ps, P->tol, 50, 1);
-        cont_set_newton_init(ps, 200, 1);
-        memcpy(ytry, yp, sizeof(double) * pen.n);
-        if (cont_solve_fixed(ps, ytry, p1) != CONT_OK) {
-            if (levels == 0) {
-                print_error("%s: penalty start at p = %g: %s\n", P->label, p1, cont_errmsg(ps));
-                fail();
-            }
-            lR /= 100.0;
-            ld /= 100.0;
-            break;
-        }
-        memcpy(yp, ytry, sizeof(double) * pen.n);
-        levels++;
+    if (sf_equil_start_off_flat(&P->eq, p1, P->tol, y, &err) != SF_OK) {
+        print_error("%s: penalty start at p = %g: %s\n", P->label, p1, err.msg);
+        fail();
     }
-    memcpy(y, yp, sizeof(double) * eq->nq);
-    sf_kin_eval(m, yp, 0, &eq->k);
-    sf_constraints(m, &eq->k, eq->g, NULL, NULL, NULL, 0);
-    for (int c = 0; c < eq->nloop; c++) y[eq->nq + c] = (c % 6 < 3 ? lR : ld) * eq->g[c];
-    for (int c = 0; c < eq->nsup; c++) y[eq->nq + eq->nloop + c] = yp[pen.nq + c];
-    cont_free(ps);
-    free(yp);
-    free(ytry);
-    sf_equil_free(&pen);
 }
 
 /* Open the study with its overrides, follow the analysis of the study
