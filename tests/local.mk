@@ -23,3 +23,4 @@ EXTRA_DIST += tests/test_bad_input.sh
 TESTS += tests/test_vtk.sh
 EXTRA_DIST += tests/test_vtk.sh
 include tests/equilibrium.mk
+EXTRA_DIST += tests/sf_test.h

@@ -19,6 +19,9 @@
 #include <sundials/sundials_context.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#define SF_TEST_SEED 123456789u
+#include "sf_test.h"
+
 #include "energy.h"
 #include "equilibrium.h"
 #include "kinematics.h"
@@ -26,52 +29,12 @@
 #include "study.h"
 #include "topology.h"
 
-#define CHECK_CLOSE(got, want, tol, ...)                                        \
-    do {                                                                        \
-        double g_ = (got), w_ = (want), t_ = (tol);                             \
-        if (!(fabs(g_ - w_) <= t_)) {                                           \
-            char what_[256];                                                    \
-            snprintf(what_, sizeof what_, __VA_ARGS__);                         \
-            print_error("%s: expected %.15g, got %.15g (|diff| %.3g > tol %.3g)\n", \
-                        what_, w_, g_, fabs(g_ - w_), t_);                      \
-            fail();                                                             \
-        }                                                                       \
-    } while (0)
-
-static unsigned rng_state = 123456789u;
-static double urand(double a, double b)
-{
-    rng_state = rng_state * 1103515245u + 12345u;
-    return a + (b - a) * ((rng_state >> 8) & 0xffffff) / (double)0x1000000;
-}
-
-static char studies_dir[1024];
-
-static void open_scene(sf_scene *sc, const char *name, int nset, const char **sets)
-{
-    char path[1200];
-    sf_error err;
-    sf_error_clear(&err);
-    snprintf(path, sizeof path, "%s/%s.cfg", studies_dir, name);
-    if (sf_scene_open(sc, path, nset, sets, &err)) {
-        print_error("cannot open %s: %s\n", path, err.msg);
-        fail();
-    }
-}
-
 static void random_state(const sf_model *m, double *q, double amax, double amodes)
 {
     for (int i = 0; i < m->nfolds; i++) {
         q[m->qoff[i]] = urand(-amax, amax);
         for (int k = 1; k < m->qn[i]; k++) q[m->qoff[i] + k] = urand(-amodes, amodes);
     }
-}
-
-static double maxabs(const double *a, size_t n)
-{
-    double m = 0;
-    for (size_t i = 0; i < n; i++) m = fmax(m, fabs(a[i]));
-    return m;
 }
 
 /* Compare analytic A (n entries) with finite differences F: per entry,

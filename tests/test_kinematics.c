@@ -12,47 +12,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#define SF_TEST_SEED 987654321u
+#include "sf_test.h"
+
 #include "kinematics.h"
 #include "scene.h"
 #include "study.h"
 #include "topology.h"
-
-#define CHECK_CLOSE(got, want, tol, ...)                                        \
-    do {                                                                        \
-        double g_ = (got), w_ = (want), t_ = (tol);                             \
-        if (!(fabs(g_ - w_) <= t_)) {                                           \
-            char what_[256];                                                    \
-            snprintf(what_, sizeof what_, __VA_ARGS__);                         \
-            print_error("%s: expected %.15g, got %.15g (|diff| %.3g > tol %.3g)\n", \
-                        what_, w_, g_, fabs(g_ - w_), t_);                      \
-            fail();                                                             \
-        }                                                                       \
-    } while (0)
-
-static unsigned rng_state = 987654321u;
-static double urand(double a, double b)
-{
-    rng_state = rng_state * 1103515245u + 12345u;
-    return a + (b - a) * ((rng_state >> 8) & 0xffffff) / (double)0x1000000;
-}
-
-static char studies_dir[1024];
-static void study_path(const char *name, char *out, size_t n)
-{
-    snprintf(out, n, "%s/%s.cfg", studies_dir, name);
-}
-
-static void open_scene(sf_scene *sc, const char *name, int nset, const char **sets)
-{
-    char path[1200];
-    sf_error err;
-    sf_error_clear(&err);
-    study_path(name, path, sizeof path);
-    if (sf_scene_open(sc, path, nset, sets, &err)) {
-        print_error("cannot open %s: %s\n", path, err.msg);
-        fail();
-    }
-}
 
 static void random_state(const sf_model *m, double *q, double amax, double amodes)
 {
@@ -60,13 +26,6 @@ static void random_state(const sf_model *m, double *q, double amax, double amode
         q[m->qoff[i]] = urand(-amax, amax);
         for (int k = 1; k < m->qn[i]; k++) q[m->qoff[i] + k] = urand(-amodes, amodes);
     }
-}
-
-static double maxabs(const double *a, size_t n)
-{
-    double m = 0;
-    for (size_t i = 0; i < n; i++) m = fmax(m, fabs(a[i]));
-    return m;
 }
 
 /* Compare analytic A (n entries) with finite differences F: per entry,

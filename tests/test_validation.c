@@ -19,24 +19,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sf_test.h"
+
 #include "cont.h"
 #include "energy.h"
 #include "equilibrium.h"
 #include "kinematics.h"
 #include "scene.h"
 #include "study.h"
-
-#define CHECK_CLOSE(got, want, tol, ...)                                        \
-    do {                                                                        \
-        double g_ = (got), w_ = (want), t_ = (tol);                             \
-        if (!(fabs(g_ - w_) <= t_)) {                                           \
-            char what_[256];                                                    \
-            snprintf(what_, sizeof what_, __VA_ARGS__);                         \
-            print_error("%s: expected %.15g, got %.15g (|diff| %.3g > tol %.3g)\n", \
-                        what_, w_, g_, fabs(g_ - w_), t_);                      \
-            fail();                                                             \
-        }                                                                       \
-    } while (0)
 
 #define CHECK_LE(got, bound, ...)                                               \
     do {                                                                        \
@@ -49,7 +39,7 @@
         }                                                                       \
     } while (0)
 
-static char studies_dir[1024], data_dir[1024];
+static char data_dir[1024];
 
 /* ------------------------------------------------------------------------
  * Reference data: CSV with '#' provenance lines, a header row, numbers
