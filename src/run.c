@@ -250,6 +250,19 @@ static int run_equilibrium(run_ctx *r)
         for (int i = 0; i < eq->n; i++) F0norm = fmax(F0norm, fabs(F0[i] * eq->fscale[i]));
         free(F0);
     }
+    /* Without loads the sheet sits at its rest angles; with a rest angle
+     * set, that state is a better first guess than the flat sheet (a
+     * compressed strip folded by actuation has the flat state as an
+     * unstable equilibrium nearby). */
+    int rested = 0;
+    if (F0norm > 1e-14) {
+        sf_equil_set_param(eq, start);
+        for (int i = 0; i < sc->model.nfolds; i++)
+            if (eq->par.rest[i] != 0.0) {
+                y0[sc->model.qoff[i]] = eq->par.rest[i];
+                rested = 1;
+            }
+    }
     if (eq->nloop > 0 && F0norm <= 1e-14) {
         /* The flat state solves the exact problem at the start, but it is a
          * singular point of loop closure (multipliers of the second-order
@@ -270,6 +283,11 @@ static int run_equilibrium(run_ctx *r)
         rc = cont_start(cs, y0, p1, dir);
     } else {
         rc = cont_start(cs, y0, start, dir);
+        if (rc != CONT_OK && rested && !r->failed) {
+            /* the rest state did not lead Newton anywhere: try the flat sheet */
+            memset(y0, 0, (size_t)eq->n * sizeof *y0);
+            rc = cont_start(cs, y0, start, dir);
+        }
     }
     free(y0);
     if (rc != CONT_OK) {
