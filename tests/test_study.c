@@ -131,14 +131,17 @@ static void test_all_studies_load(void **state)
         assert_true(s.face_material >= 0);
         CHECK_EQ_D(s.materials[s.face_material].thickness, 2.0e-3, "face thickness");
         CHECK_EQ_D(s.materials[s.face_material].density, 1040.0, "face density");
-        assert_string_equal(s.analysis_type, "equilibrium");
+        assert_true(strcmp(s.analysis_type, "equilibrium") == 0 ||
+                    strcmp(s.analysis_type, "dynamics") == 0);
         const char *param;
         double end;
         sf_error_clear(&e);
         CHECK_OK(sf_study_string(&s, "analysis.parameter", "", &param, &e), e);
-        assert_string_equal(param, "load");
         CHECK_OK(sf_study_double(&s, "analysis.end", -1, &end, &e), e);
-        CHECK_EQ_D(end, s.nstages, "analysis.end = number of stages");
+        /* the paper's cases ramp every load stage; the studies beyond them
+         * (buckling, snap-through) choose their own range */
+        if (strcmp(param, "load") == 0 && strstr(g.gl_pathv[i], "buckle") == NULL)
+            CHECK_EQ_D(end, s.nstages, "analysis.end = number of stages");
         assert_true(s.nprobes >= 1);
         for (int f = 0; f < s.nfolds; f++) assert_true(s.folds[f].material == m);
         sf_study_free(&s);
