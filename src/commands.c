@@ -188,7 +188,7 @@ int sf_cmd_plot(const char *dir, sf_error *err)
                        "first)", branch, dir);
     const char *env = getenv("SMOOTHFOLD_PLOTS");
     snprintf(pdir, sizeof pdir, "%s", env && env[0] ? env : SF_SRCDIR "/plots");
-    const char *scripts[] = {"path.gp", "angles.gp"};
+    const char *scripts[] = {"stability.gp", "eigenvalues.gp", "angles.gp"};
     for (size_t i = 0; i < sizeof scripts / sizeof *scripts; i++) {
         snprintf(script, sizeof script, "%s/%s", pdir, scripts[i]);
         if (stat(script, &st) != 0)
@@ -196,6 +196,13 @@ int sf_cmd_plot(const char *dir, sf_error *err)
                            "directory)", script);
         if (run_gnuplot(script, dir, err)) return err->code;
     }
-    printf("wrote %s/path.png, path.pdf, angles.png, angles.pdf\n", dir);
+    printf("wrote in %s:", dir);
+    const char *outs[] = {"stability", "eigenvalues", "angles"};
+    for (size_t i = 0; i < sizeof outs / sizeof *outs; i++) {
+        char f[1200];
+        snprintf(f, sizeof f, "%s/%s.png", dir, outs[i]);
+        if (stat(f, &st) == 0) printf(" %s.png|pdf", outs[i]);
+    }
+    printf("\n");
     return SF_OK;
 }

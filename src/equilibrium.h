@@ -79,6 +79,13 @@ void sf_equil_set_param(sf_equil *q, double p);
 int sf_equil_residual(const double *y, double p, double *F, void *user);
 int sf_equil_jacobian(const double *y, double p, SUNMatrix Jy, double *Fp, void *user);
 
+/* The blocks of the KKT matrix at (y, p), without the regularisation:
+ * HL (nq x nq, row-major) = hess Pi + sum_c lambda_c hess g_c (symmetric),
+ * C (ncon x nq, row-major) = the constraint rows (loop rows in exact mode,
+ * then supports and the displacement row).  For the stability analysis.
+ * Returns nonzero on a non-finite value. */
+int sf_equil_kkt(sf_equil *q, const double *y, double p, double *HL, double *C);
+
 /* Quantities of a solved point: energy Pi, max |loop residual| (rotation
  * rows and translation rows [m] separately). */
 void sf_equil_report(sf_equil *q, const double *y, double p, double *Pi,

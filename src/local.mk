@@ -12,4 +12,5 @@ src_smoothfold_SOURCES += src/commands.c src/commands.h
 src_libsmoothfold_a_SOURCES += src/energy.c src/energy.h
 src_libsmoothfold_a_SOURCES += src/equilibrium.c src/equilibrium.h
 src_smoothfold_SOURCES += src/run.c
-EXTRA_DIST += plots/path.gp plots/angles.gp
+EXTRA_DIST += plots/stability.gp plots/eigenvalues.gp plots/angles.gp
+src_libsmoothfold_a_SOURCES += src/stability.c src/stability.h
