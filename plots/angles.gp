@@ -12,7 +12,7 @@ set key outside right
 set xlabel "p"
 set ylabel "fold angle [rad]"
 set title sprintf("%s: fold angles (thick: stable, thin: unstable)", dir) noenhanced
-header = system(sprintf("grep -v '^#' '%s' | head -1", file))
+header = system(sprintf("awk '!/^#/ {print; exit}' '%s'", file))
 cn(name) = sum [i = 1:words(header)] (word(header, i) eq name ? i : 0)
 cp = cn("p"); cs = cn("stable"); ct1 = cn("theta1")
 nf = 0

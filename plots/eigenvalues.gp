@@ -13,7 +13,7 @@ set datafile commentschars "#"
 set grid
 set key outside right
 set xlabel "p"
-header = system(sprintf("grep -v '^#' '%s' | head -1", file))
+header = system(sprintf("awk '!/^#/ {print; exit}' '%s'", file))
 cn(name) = sum [i = 1:words(header)] (word(header, i) eq name ? i : 0)
 cp = cn("p")
 ne = 0

@@ -23,7 +23,7 @@ set title sprintf("%s: stability diagram (solid: stable, dashed: unstable)", dir
 nb = int(system(sprintf("awk -F'\t' '!/^#/ && NF > 2 && $2 ~ /^[0-9]+$/ {b = $2} END {print b + 0}' '%s'", file)))
 if (nb < 1) { nb = 1 }
 # columns by name (gnuplot reads column headers only in the first block)
-header = system(sprintf("grep -v '^#' '%s' | head -1", file))
+header = system(sprintf("awk '!/^#/ {print; exit}' '%s'", file))
 cn(name) = sum [i = 1:words(header)] (word(header, i) eq name ? i : 0)
 cx = cn(col); cp = cn("p"); cs = cn("stable"); ct = cn("type")
 if (cx == 0) { print sprintf("stability.gp: %s has no column %s", file, col); exit status 1 }

@@ -93,6 +93,7 @@ typedef struct run_ctx {
     /* stability */
     int do_stab, nev;
     sf_stab stab;
+    long neig_method[3];  /* points analysed by each SF_EIG_* method */
     /* branches: the one being followed, and the branch points still to
      * switch at (breadth first, up to depth analysis.branch_depth) */
     int branch, nbranches, depth, max_depth;
@@ -133,6 +134,19 @@ static void probe_disp(run_ctx *r, const double *y, int i, double u[3])
     u[1] = x[1] - r->probes[i].X[1];
     u[2] = x[2];
     (void)y;
+}
+
+/* Note on a branch, for the headers of branch.tsv and on the terminal. */
+static void branch_note(run_ctx *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void branch_note(run_ctx *r, const char *fmt, ...)
+{
+    char line[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    sb_printf(&r->bnotes, "# %s\n", line);
+    if (!r->opt->quiet) fprintf(stderr, "%s\n", line);
 }
 
 /* Remember a branch point for switching, unless it is one already known
@@ -187,7 +201,7 @@ static void stab_fields(run_ctx *r, sbuf *b)
     }
     sb_printf(b, "\t%d\t%d", R->stable, R->morse);
     for (int i = 0; i < r->nev; i++) {
-        if (i < R->neig && isfinite(R->eig[i])) sb_printf(b, "\t%.10g", R->eig[i]);
+        if (i < R->neig && isfinite(R->eig[i])) sb_printf(b, "\t%.13g", R->eig[i]);
         else sb_printf(b, "\t");
     }
 }
@@ -199,9 +213,12 @@ static int on_point(const cont_point *pt, void *data)
     const sf_model *m = eq->m;
     const sf_study *s = m->study;
     double Pi, rr, rt;
-    if (r->do_stab && sf_stab_eval(&r->stab, eq, pt->y, pt->p, r->err)) {
-        r->failed = 1;
-        return 1;
+    if (r->do_stab) {
+        if (sf_stab_eval(&r->stab, eq, pt->y, pt->p, r->err)) {
+            r->failed = 1;
+            return 1;
+        }
+        r->neig_method[r->stab.res.method]++;
     }
     sf_equil_report(eq, pt->y, pt->p, &Pi, &rr, &rt);
     double load = eq->param == SF_PARAM_LOAD ? pt->p : eq->load;
@@ -238,7 +255,11 @@ static int on_point(const cont_point *pt, void *data)
             sb_printf(&r->special, "\t%.12g\t%.12g\t%.12g", fin(u[0]), fin(u[1]), fin(u[2]));
         }
         stab_fields(r, &r->special);
-        sb_printf(&r->special, "\n");
+        sb_printf(&r->special, "\t%.3g\n", fin(pt->loc_err));
+        if (pt->loc_err > 1e-6 * (1.0 + fabs(pt->p)))
+            branch_note(r, "%s at row %ld (branch %d, p = %.10g) located only to within %.3g in "
+                        "arclength: the corrector left the branch while bisecting", pt->label,
+                        r->npoints, r->branch, pt->p, pt->loc_err);
         if (strcmp(pt->label, "BP") == 0 && remember_bp(r, pt)) {
             r->failed = 1;
             return 1;
@@ -277,19 +298,6 @@ static int on_point(const cont_point *pt, void *data)
 static int component_index(const char *c)
 {
     return strcmp(c, "x") == 0 ? 0 : strcmp(c, "y") == 0 ? 1 : 2;
-}
-
-/* Note on a branch, for the headers of branch.tsv and on the terminal. */
-static void branch_note(run_ctx *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void branch_note(run_ctx *r, const char *fmt, ...)
-{
-    char line[1024];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(line, sizeof line, fmt, ap);
-    va_end(ap);
-    sb_printf(&r->bnotes, "# %s\n", line);
-    if (!r->opt->quiet) fprintf(stderr, "%s\n", line);
 }
 
 /* Follow the branches through the branch points met so far, breadth
@@ -506,6 +514,10 @@ static int write_outputs(run_ctx *r)
     /* branch.tsv: comments, column names, rows */
     sb_printf(&out, "%s", r->header.s ? r->header.s : "");
     if (r->bnotes.n) sb_printf(&out, "%.*s", (int)r->bnotes.n, r->bnotes.s);
+    if (r->do_stab)
+        sb_printf(&out, "# stability: %ld points by the dense LAPACK method, %ld by ARPACK "
+                        "(analysis.eigensolver)\n", r->neig_method[SF_EIG_DENSE],
+                  r->neig_method[SF_EIG_ARPACK]);
     sb_printf(&out, "# units: s, p, load: as the parameter (load factor, actuation factor, or m); "
                     "probe*: m; energy: J; residual_rot: 1; residual_tra: m; eig*: J per unit "
                     "of the coordinates (rad, mode amplitude); theta*: rad\n");
@@ -534,7 +546,7 @@ static int write_outputs(run_ctx *r)
         sb_printf(&out, "\tprobe%d_ux\tprobe%d_uy\tprobe%d_uz", i + 1, i + 1, i + 1);
     sb_printf(&out, "\tstable\tmorse");
     for (int i = 0; i < r->nev; i++) sb_printf(&out, "\teig%d", i + 1);
-    sb_printf(&out, "\n");
+    sb_printf(&out, "\tloc_err\n");
     if (r->special.n) sb_printf(&out, "%.*s", (int)r->special.n, r->special.s);
     WRITE("special.tsv", out);
     free(out.s);

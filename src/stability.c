@@ -31,6 +31,7 @@ extern void dsytrs_(const char *uplo, const int *n, const int *nrhs, const doubl
 #define ZERO_ROW 1e-13
 #define ARPACK_TOL 1e-13
 #define ARPACK_MAXITER 1000
+#define SF_EIG_EXTRA 6
 
 const char *sf_stab_method_name(int method)
 {
@@ -46,7 +47,7 @@ int sf_stab_init(sf_stab *st, const sf_equil *q, int method, int nev, sf_error *
     st->method = method;
     size_t nq = (size_t)q->nq, nc = (size_t)q->ncon, N = nq + nc;
     /* scratch: the largest of the dense and ARPACK needs (generous) */
-    int ncv = 20 + 2 * st->nev;
+    int ncv = 40 + 2 * st->nev;
     st->nwork = 6 * nq * nq + 4 * N * N + 3 * N + (size_t)ncv * (nq + ncv + 8) + 64 * N + 4 * nq +
                 nc + 64;
     st->HL = calloc(nq * nq + 1, sizeof(double));
@@ -227,7 +228,10 @@ static int eval_arpack(sf_stab *st, sf_error *err)
     R->method = SF_EIG_ARPACK;
     R->rank = r;
     R->dim = d;
-    int nev = st->nev < d - 1 ? st->nev : d - 1;
+    /* a few more than asked for: Lanczos finds the members of a cluster
+     * (or copies of a multiple eigenvalue, frequent in symmetric sheets)
+     * reliably only when the whole cluster is wanted */
+    int nev = st->nev + SF_EIG_EXTRA < d - 1 ? st->nev + SF_EIG_EXTRA : d - 1;
     if (nev < 1) return -1; /* too small for ARPACK: the caller goes dense */
     int ncv = 2 * nev + 1 > 20 ? 2 * nev + 1 : 20;
     if (ncv > d) ncv = d;
@@ -307,9 +311,10 @@ static int eval_arpack(sf_stab *st, sf_error *err)
     if (ainfo != 0)
         return sf_fail(err, SF_ENUMERIC, "stability: ARPACK dseupd failed (info %d)", (int)ainfo);
     int nconv = (int)iparam[4] < nev ? (int)iparam[4] : nev;
-    for (int i = 0; i < nconv; i++) R->eig[i] = sigma + 1.0 / dval[i];
-    sort_ascending(R->eig, nconv);
-    R->neig = nconv;
+    for (int i = 0; i < nconv; i++) dval[i] = sigma + 1.0 / dval[i];
+    sort_ascending(dval, nconv);
+    R->neig = nconv < st->nev ? nconv : st->nev;
+    memcpy(R->eig, dval, sizeof(double) * R->neig);
     R->stable = R->morse == 0 && nconv > 0 && R->eig[0] > 0.0;
     R->iters = (int)iparam[2];
     R->nop = nop;
