@@ -144,7 +144,7 @@ static const sf_study_key schema[] = {
     {"analysis.max_steps",         INT,   SF_KEY_GE,      1, 0,       "500",         NULL, "-", "most steps along a branch"},
     {"analysis.stability",         BOOL,  0,              0, 0,       "true",        NULL, "-", "compute stability along the path"},
     {"analysis.eigenvalues",       INT,   SF_KEY_GE,      0, 0,       "4",           NULL, "-", "lowest eigenvalues of the constrained Hessian reported"},
-    {"analysis.eigensolver",       STR,   0,              0, 0,       "auto",        "auto|dense|arpack", "-", "eigenvalues of the constrained Hessian: dense LAPACK (explicit tangent basis), ARPACK shift-invert on the KKT pencil, or auto (dense up to 64 coordinates)"},
+    {"analysis.eigensolver",       STR,   0,              0, 0,       "auto",        "auto|dense|arpack", "-", "eigenvalues of the constrained Hessian: dense LAPACK (explicit tangent basis), ARPACK shift-invert on the KKT pencil, or auto (dense up to 200 coordinates)"},
     {"analysis.branch_depth",      INT,   SF_KEY_GE,      0, 0,       "0",           NULL, "-", "levels of branch switching at branch points (0: none)"},
     {"analysis.report",            STR,   0,              0, 0,       NULL,          NULL, "-", "probe reported against p (default: the first probe)"},
     {"analysis.duration",          NUM,   POS | DYN,      0, 0,       NULL,          NULL, "s", "length of the trajectory (required for dynamics)"},
