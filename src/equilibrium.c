@@ -174,6 +174,7 @@ void sf_equil_set_param(sf_equil *q, double p)
         q->par.rest[i] = rest;
         q->par.drest[i] = drest;
     }
+    if (q->param_hook) q->param_hook(q, p, q->param_hook_data);
 }
 
 static int finite_all(const double *v, int n)

@@ -50,6 +50,11 @@ typedef struct sf_equil {
     /* scratch */
     double *grad, *H, *gp, *g, *J, *dx;
     long nres, njac;
+    /* Optional: called at the end of sf_equil_set_param (so also inside
+     * the residual, Jacobian and report), e.g. by the dynamics module to
+     * apply the time histories of other actuation groups. */
+    void (*param_hook)(struct sf_equil *q, double p, void *data);
+    void *param_hook_data;
 } sf_equil;
 
 int sf_equil_init(sf_equil *q, const sf_model *m, int param, int group,

@@ -14,3 +14,6 @@ src_libsmoothfold_a_SOURCES += src/equilibrium.c src/equilibrium.h
 src_smoothfold_SOURCES += src/run.c
 EXTRA_DIST += plots/stability.gp plots/eigenvalues.gp plots/angles.gp
 src_libsmoothfold_a_SOURCES += src/stability.c src/stability.h
+src_libsmoothfold_a_SOURCES += src/dynamics.c src/dynamics.h
+src_smoothfold_SOURCES += src/run_dynamics.c src/run_dynamics.h
+EXTRA_DIST += plots/trajectory.gp

@@ -15,6 +15,7 @@
 #include "commands.h"
 #include "cont.h"
 #include "equilibrium.h"
+#include "run_dynamics.h"
 #include "scene.h"
 #include "stability.h"
 #include "study.h"
@@ -569,6 +570,11 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
         sf_scene_close(&sc);
         return err->code;
     }
+    if (strcmp(sc.study.analysis_type, "dynamics") == 0) {
+        int drc = sf_run_dynamics(&sc, o, err);
+        sf_scene_close(&sc);
+        return drc;
+    }
     run_ctx r;
     memset(&r, 0, sizeof r);
     r.sc = &sc;
@@ -578,7 +584,7 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     int rc = SF_OK;
     if (strcmp(sc.study.analysis_type, "equilibrium") != 0) {
         rc = sf_fail(err, SF_EINPUT, "%s: analysis.type \"%s\" is not available in this version "
-                     "(only \"equilibrium\")", sc.study.path, sc.study.analysis_type);
+                     "(only \"equilibrium\" and \"dynamics\")", sc.study.path, sc.study.analysis_type);
     }
     char shapes[1100];
     snprintf(shapes, sizeof shapes, "%s/shapes", r.dir);
