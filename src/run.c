@@ -15,6 +15,7 @@
 #include "commands.h"
 #include "cont.h"
 #include "equilibrium.h"
+#include "flatstart.h"
 #include "scene.h"
 #include "study.h"
 #include "vtk.h"
@@ -76,6 +77,8 @@ typedef struct run_ctx {
     int failed;
     double s_offset;      /* arclength before the engine's first point */
     cont_solver *solver;
+    int skip_start;       /* the next point repeats the last one (stage restart) */
+    double seg_end;       /* end of the stage being followed (multi-stage loads) */
 } run_ctx;
 
 static double now(void)
@@ -115,12 +118,31 @@ static void probe_disp(run_ctx *r, const double *y, int i, double u[3])
 static int on_point(const cont_point *pt, void *data)
 {
     run_ctx *r = data;
+    if (r->skip_start) {
+        r->skip_start = 0;
+        return 0;
+    }
+    cont_point relabel;
+    if (strcmp(pt->label, "EP") == 0 && fabs(pt->p - r->seg_end) <= 1e-9 &&
+        fabs(r->seg_end - r->p_end) > 1e-9) {
+        /* the end of a load stage inside the path is a regular point */
+        relabel = *pt;
+        relabel.label[0] = '\0';
+        pt = &relabel;
+    }
     sf_equil *eq = &r->eq;
     const sf_model *m = eq->m;
     const sf_study *s = m->study;
     double Pi, rr, rt;
     sf_equil_report(eq, pt->y, pt->p, &Pi, &rr, &rt);
     double load = eq->param == SF_PARAM_LOAD ? pt->p : eq->load;
+    if (r->s_offset < 0) {
+        /* first point after a start off the flat state: the arclength
+         * from the flat state, in the norm of the path (q and p) */
+        double d2 = (pt->p - r->p_start) * (pt->p - r->p_start);
+        for (int j = 0; j < eq->nq; j++) d2 += pt->y[j] * pt->y[j];
+        r->s_offset = sqrt(d2);
+    }
     sbuf *b = &r->branch;
     double sarc = pt->s + r->s_offset;
     sb_printf(b, "%ld\t%.12g\t%.12g\t%.12g", r->npoints, fin(sarc), fin(pt->p), fin(load));
@@ -183,6 +205,20 @@ static int component_index(const char *c)
     return strcmp(c, "x") == 0 ? 0 : strcmp(c, "y") == 0 ? 1 : 2;
 }
 
+/* Follow the load stage that contains p in direction dir: the stage ramps
+ * alone (sf_equil_set_param) and the parameter range ends where it ends
+ * (or at the path's end). */
+static void stage_segment(run_ctx *r, double p, int dir, double lo, double hi)
+{
+    int ns = r->eq.e.nstages;
+    int k = dir > 0 ? (int)floor(p + 1e-9) : (int)ceil(p - 1e-9) - 1;
+    k = k < 0 ? 0 : k > ns - 1 ? ns - 1 : k;
+    double e = dir > 0 ? (k == ns - 1 ? hi : fmin(k + 1.0, hi)) : (k == 0 ? lo : fmax(k, lo));
+    r->eq.ramp_stage = k;
+    r->seg_end = (dir > 0 ? e >= hi : e <= lo) ? r->p_end : e;
+    cont_set_prange(r->solver, dir > 0 ? lo : e, dir > 0 ? e : hi);
+}
+
 static int run_equilibrium(run_ctx *r)
 {
     sf_scene *sc = r->sc;
@@ -242,6 +278,12 @@ static int run_equilibrium(run_ctx *r)
     double *y0 = calloc((size_t)eq->n + 1, sizeof(double));
     if (!y0) return sf_fail(err, SF_ENOMEM, "out of memory");
     int dir = end >= start ? +1 : -1, rc;
+    /* Loads in several stages: the path has a corner where a stage ends
+     * (the load changes direction), which the continuation takes for a
+     * branch jump; follow it one stage at a time instead. */
+    r->seg_end = end;
+    int staged = ptype == SF_PARAM_LOAD && eq->e.nstages > 1;
+    if (staged) stage_segment(r, start, dir, lo, hi);
     double F0norm = 0.0;
     {
         double *F0 = calloc((size_t)eq->n + 1, sizeof(double));
@@ -267,7 +309,8 @@ static int run_equilibrium(run_ctx *r)
         /* The flat state solves the exact problem at the start, but it is a
          * singular point of loop closure (multipliers of the second-order
          * rows are undetermined there).  Report it, then start the branch
-         * one step further from the penalty homotopy. */
+         * one step further from the limit of the branch at the flat state
+         * (src/flatstart.c; the penalty homotopy as the fallback). */
         cont_point p0;
         memset(&p0, 0, sizeof p0);
         p0.y = y0;
@@ -275,12 +318,15 @@ static int run_equilibrium(run_ctx *r)
         on_point(&p0, r);
         if (r->failed) { free(y0); return err->code; }
         double p1 = start + dir * fmin(step, 0.25 * fabs(end - start));
-        rc = sf_equil_start_off_flat(eq, p1, s->tolerance > 0 ? s->tolerance : 1e-10, y0, err);
-        if (rc) { free(y0); return rc; }
-        double d2 = (p1 - start) * (p1 - start);
-        for (int i = 0; i < eq->n; i++) d2 += y0[i] * y0[i];
-        r->s_offset = sqrt(d2);
-        rc = cont_start(cs, y0, p1, dir);
+        if (r->seg_end != end) p1 = start + dir * fmin(fabs(p1 - start), 0.25 * fabs(r->seg_end - start));
+        r->s_offset = -1.0;   /* set from the first point (on_point) */
+        rc = sf_equil_start_flat(eq, cs, start, p1, dir, s->tolerance > 0 ? s->tolerance : 1e-10,
+                                 y0, err);
+        if (rc) {
+            free(y0);
+            return err->code;
+        }
+        rc = CONT_OK;
     } else {
         rc = cont_start(cs, y0, start, dir);
         if (rc != CONT_OK && rested && !r->failed) {
@@ -289,8 +335,8 @@ static int run_equilibrium(run_ctx *r)
             rc = cont_start(cs, y0, start, dir);
         }
     }
-    free(y0);
     if (rc != CONT_OK) {
+        free(y0);
         if (r->failed) return err->code;
         return sf_fail(err, SF_ENUMERIC, "%s: no equilibrium at the start of the path: %s%s",
                        s->path, cont_errmsg(cs),
@@ -298,6 +344,26 @@ static int run_equilibrium(run_ctx *r)
                                    "solver.constraints = \"penalty\" is the paper's method)" : "");
     }
     rc = cont_run(cs);
+    while (staged && rc == CONT_DONE && !r->failed && r->seg_end != end &&
+           cont_stop_reason(cs) == (dir > 0 ? CONT_STOP_PMAX : CONT_STOP_PMIN)) {
+        /* next stage, from the last point */
+        const cont_point *last = cont_get_point(cs);
+        double pb = last->p;
+        r->s_offset += last->s;
+        memcpy(y0, last->y, (size_t)eq->n * sizeof *y0);
+        stage_segment(r, pb, dir, lo, hi);
+        r->skip_start = 1;
+        if (cont_start(cs, y0, pb, dir) != CONT_OK) {
+            r->skip_start = 0;
+            if (r->failed) break;
+            free(y0);
+            return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: no restart at "
+                           "the end of load stage %d (p = %g): %s", s->path, r->npoints,
+                           (int)lround(pb), pb, cont_errmsg(cs));
+        }
+        rc = cont_run(cs);
+    }
+    free(y0);
     if (r->failed) return err->code;
     if (rc == CONT_FAIL)
         return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: %s", s->path,
