@@ -57,15 +57,7 @@ extern void dgelss_(const int *m, const int *n, const int *nrhs, double *a, cons
 #define LIMIT_TOL 1e-12    /* scaled residual of the limit problem */
 #define LIMIT_MAXIT 60
 
-typedef struct limit_problem {
-    int nq, ncon, n1, n2, n;  /* n = nq + n1 + n2 unknowns */
-    double *H0, *gp;          /* nq x nq (row-major), nq; scaled by 1 / kref */
-    double *cp;               /* ncon: d g / dp of the scaled rows */
-    double *U;                /* ncon x ncon left singular vectors of the scaled J(0), column-major */
-    double *J1;               /* n1 x nq */
-    double *c1;               /* n1: d / dp of the first-order combinations */
-    double *G;                /* n2 x nq x nq: Hessians of the second-order combinations */
-} limit_problem;
+typedef sf_limit limit_problem;
 
 static void limit_free(limit_problem *L)
 {
@@ -292,27 +284,20 @@ done:
     return rc;
 }
 
-int sf_equil_start_limit(sf_equil *q, double p0, double p1, double *y, sf_flatstart_info *info,
-                         sf_error *err)
+double sf_limit_solve(const sf_limit *Lp, double *z, int maxit, int *iters)
 {
-    const sf_model *m = q->m;
-    if (info) memset(info, 0, sizeof *info);
-    if (q->ncon == 0)
-        return sf_fail(err, SF_EINPUT, "%s: the limit start needs constraint rows", m->study->path);
-    limit_problem L;
-    if (limit_build(q, p0, &L, err)) return err->code;
-    int n = L.n, nq = L.nq, n1 = L.n1, nc = L.ncon;
-    double *z = calloc((size_t)n + 1, sizeof(double));
+    const limit_problem L = *Lp;
+    int n = L.n;
     double *E = calloc((size_t)n + 1, sizeof(double));
     double *A = malloc(sizeof(double) * ((size_t)n * n + 1));
     double *zt = calloc((size_t)n + 1, sizeof(double));
     double *Et = calloc((size_t)n + 1, sizeof(double));
     double *zn = calloc((size_t)n + 1, sizeof(double));
-    int rc = SF_OK;
-    if (!z || !E || !A || !zt || !Et || !zn) {
-        rc = sf_fail(err, SF_ENOMEM, "out of memory");
-        goto done;
+    if (!E || !A || !zt || !Et || !zn) {
+        free(E); free(A); free(zt); free(Et); free(zn);
+        return -1.0;
     }
+    memset(z, 0, sizeof(double) * (size_t)n);
     /* Homotopy in eps: the second-order equations relaxed to
      * u^T G_s u / 2 = eps nu_s, a penalty of stiffness 1/eps (relative to
      * the mean fold stiffness).  For large eps the solution is the
@@ -322,10 +307,10 @@ int sf_equil_start_limit(sf_equil *q, double p0, double p1, double *y, sf_flatst
      * at each level, from the previous level's solution. */
     int it = 0, total = 0;
     double en = 0.0, eps = 1.0, eps_ok = -1.0;
-    for (int level = 0; level < 200; level++) {
+    for (int level = 0; level < 200 && total < maxit; level++) {
         memcpy(zt, z, sizeof(double) * (size_t)n);
         int conv = 0;
-        for (it = 0; it < LIMIT_MAXIT; it++, total++) {
+        for (it = 0; it < LIMIT_MAXIT && total < maxit; it++, total++) {
             limit_eval(&L, zt, eps, E, A);
             en = maxabs(E, n);
             if (en <= LIMIT_TOL) { conv = 1; break; }
@@ -354,8 +339,34 @@ int sf_equil_start_limit(sf_equil *q, double p0, double p1, double *y, sf_flatst
             if (eps_ok / eps < 1.01) break;
         }
     }
-    it = total;
     if (eps_ok != 0.0) en = fmax(en, 1.0);  /* did not reach eps = 0 */
+    if (iters) *iters = total;
+    free(E); free(A); free(zt); free(Et); free(zn);
+    return en;
+}
+
+int sf_equil_start_limit(sf_equil *q, double p0, double p1, double *y, sf_flatstart_info *info,
+                         sf_error *err)
+{
+    const sf_model *m = q->m;
+    if (info) memset(info, 0, sizeof *info);
+    if (q->ncon == 0)
+        return sf_fail(err, SF_EINPUT, "%s: the limit start needs constraint rows", m->study->path);
+    limit_problem L;
+    if (limit_build(q, p0, &L, err)) return err->code;
+    int n = L.n, nq = L.nq, n1 = L.n1, nc = L.ncon;
+    double *z = calloc((size_t)n + 1, sizeof(double));
+    int rc = SF_OK;
+    if (!z) {
+        rc = sf_fail(err, SF_ENOMEM, "out of memory");
+        goto done;
+    }
+    int it = 0;
+    double en = sf_limit_solve(&L, z, 20000, &it);
+    if (en < 0) {
+        rc = sf_fail(err, SF_ENOMEM, "out of memory");
+        goto done;
+    }
     if (info) {
         info->iterations = it;
         info->residual = en;
@@ -379,11 +390,6 @@ int sf_equil_start_limit(sf_equil *q, double p0, double p1, double *y, sf_flatst
     }
 done:
     free(z);
-    free(E);
-    free(A);
-    free(zt);
-    free(Et);
-    free(zn);
     limit_free(&L);
     return rc;
 }

@@ -5,6 +5,27 @@
 
 #include "equilibrium.h"
 
+/* The limit problem (flatstart.c):
+ *     (H0 + sum_s nu_s G_s) u + J1^T mu + gp = 0,  J1 u + c1 = 0,
+ *     u^T G_s u / 2 = 0  (s < n2),
+ * unknowns z = (u, mu, nu), n = nq + n1 + n2.  U and cp belong to the
+ * equilibrium start (may be NULL otherwise). */
+typedef struct sf_limit {
+    int nq, ncon, n1, n2, n;
+    double *H0, *gp;          /* nq x nq (row-major, symmetric), nq */
+    double *cp;               /* ncon: d g / dp of the scaled rows */
+    double *U;                /* ncon x ncon left singular vectors of the scaled J(0), column-major */
+    double *J1;               /* n1 x nq */
+    double *c1;               /* n1 */
+    double *G;                /* n2 x nq x nq: Hessians of the second-order combinations */
+} sf_limit;
+
+/* Solve the limit problem by the eps homotopy (flatstart.c), at most maxit
+ * Newton iterations in all; z (n values) receives the solution.  Returns
+ * the final max-norm of the residual (>= 1 when the homotopy did not reach
+ * eps = 0), -1 when out of memory.  iters may be NULL. */
+double sf_limit_solve(const sf_limit *L, double *z, int maxit, int *iters);
+
 typedef struct sf_flatstart_info {
     int iterations;          /* Newton iterations of the limit problem */
     double residual;         /* its final scaled residual */

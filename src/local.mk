@@ -12,5 +12,7 @@ src_smoothfold_SOURCES += src/commands.c src/commands.h
 src_libsmoothfold_a_SOURCES += src/energy.c src/energy.h
 src_libsmoothfold_a_SOURCES += src/equilibrium.c src/equilibrium.h
 src_libsmoothfold_a_SOURCES += src/flatstart.c src/flatstart.h
+src_libsmoothfold_a_SOURCES += src/reactions.c src/reactions.h
+src_libsmoothfold_a_SOURCES += src/mobility.c src/mobility.h
 src_smoothfold_SOURCES += src/run.c
 EXTRA_DIST += plots/path.gp plots/angles.gp

@@ -16,6 +16,8 @@
 #include "cont.h"
 #include "equilibrium.h"
 #include "flatstart.h"
+#include "mobility.h"
+#include "reactions.h"
 #include "scene.h"
 #include "study.h"
 #include "vtk.h"
@@ -79,6 +81,7 @@ typedef struct run_ctx {
     cont_solver *solver;
     int skip_start;       /* the next point repeats the last one (stage restart) */
     double seg_end;       /* end of the stage being followed (multi-stage loads) */
+    sf_reactions reac;    /* reactions.tsv rows (supports, prescribed displacement) */
 } run_ctx;
 
 static double now(void)
@@ -157,6 +160,7 @@ static int on_point(const cont_point *pt, void *data)
               pt->newton_iters, pt->label[0] ? pt->label : "-");
     for (int i = 0; i < m->nfolds; i++) sb_printf(b, "\t%.12g", fin(pt->y[m->qoff[i]]));
     sb_printf(b, "\n");
+    if (eq->nsup) sf_reactions_add(&r->reac, eq, r->npoints, pt->y, pt->p, load);
     cont_stats last;
     memset(&last, 0, sizeof last);
     if (r->solver) cont_get_stats(r->solver, &last, NULL);
@@ -205,6 +209,27 @@ static int component_index(const char *c)
     return strcmp(c, "x") == 0 ? 0 : strcmp(c, "y") == 0 ? 1 : 2;
 }
 
+/* The start failed: when the loop constraints leave no motion (the whole
+ * sheet, or a vertex its own folds), say so instead (SF_ELOCKED). */
+static int explain_start_failure(run_ctx *r)
+{
+    sf_error *err = r->err;
+    if (r->eq.nloop == 0 || r->failed) return err->code;
+    sf_mobility mb;
+    sf_error merr;
+    sf_error_clear(&merr);
+    if (sf_mobility_analyse(r->eq.m, NULL, &mb, &merr)) return err->code;
+    if (sf_mobility_locked(&mb)) {
+        char what[1500];
+        sf_mobility_describe(r->eq.m, &mb, what, sizeof what);
+        sf_error_clear(err);
+        sf_fail(err, SF_ELOCKED, "%s: no equilibrium at the start of the path: %s",
+                r->eq.m->study->path, what);
+    }
+    sf_mobility_free(&mb);
+    return err->code;
+}
+
 /* Follow the load stage that contains p in direction dir: the stage ramps
  * alone (sf_equil_set_param) and the parameter range ends where it ends
  * (or at the path's end). */
@@ -249,6 +274,7 @@ static int run_equilibrium(run_ctx *r)
     if (sf_equil_init(&r->eq, &sc->model, ptype, gi, pi, component_index(comp), load, err))
         return err->code;
     sf_equil *eq = &r->eq;
+    sf_reactions_init(&r->reac, ptype == SF_PARAM_DISPLACEMENT ? pi : -1);
     if (s->constraints == SF_CONSTRAINTS_PENALTY)
         sf_equil_use_penalty(eq, s->penalty_rotation, s->penalty_translation);
     r->probes = calloc((size_t)s->nprobes + 1, sizeof(sf_mpoint));
@@ -324,7 +350,7 @@ static int run_equilibrium(run_ctx *r)
                                  y0, err);
         if (rc) {
             free(y0);
-            return err->code;
+            return explain_start_failure(r);
         }
         rc = CONT_OK;
     } else {
@@ -338,10 +364,11 @@ static int run_equilibrium(run_ctx *r)
     if (rc != CONT_OK) {
         free(y0);
         if (r->failed) return err->code;
-        return sf_fail(err, SF_ENUMERIC, "%s: no equilibrium at the start of the path: %s%s",
-                       s->path, cont_errmsg(cs),
-                       eq->nloop ? " (exact loop closure: the KKT matrix may be singular here; "
-                                   "solver.constraints = \"penalty\" is the paper's method)" : "");
+        sf_fail(err, SF_ENUMERIC, "%s: no equilibrium at the start of the path: %s%s",
+                s->path, cont_errmsg(cs),
+                eq->nloop ? " (exact loop closure: the KKT matrix may be singular here; "
+                            "solver.constraints = \"penalty\" is the paper's method)" : "");
+        return explain_start_failure(r);
     }
     rc = cont_run(cs);
     while (staged && rc == CONT_DONE && !r->failed && r->seg_end != end &&
@@ -410,6 +437,10 @@ static int write_outputs(run_ctx *r)
     WRITE("special.tsv", out);
     free(out.s);
 #undef WRITE
+    if (r->eq.nsup) {
+        snprintf(path, sizeof path, "%s/reactions.tsv", r->dir);
+        if (sf_reactions_write(&r->reac, &r->eq, path, r->header.s, err)) return err->code;
+    }
     if (r->nshapes > 0 && sf_pvd_write(&r->pvd, err)) return err->code;
     snprintf(path, sizeof path, "%s/study.cfg", r->dir);
     char hdr[256];
@@ -475,6 +506,7 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     free(r.stats.s);
     free(r.special.s);
     free(r.header.s);
+    sf_reactions_free(&r.reac);
     sf_pvd_free(&r.pvd);
     sf_scene_close(&sc);
     return rc;
