@@ -13,6 +13,7 @@
  *   9. branch switching
  */
 #include "cont.h"
+#include "cont_lapack.h"
 
 #include <kinsol/kinsol.h>
 #include <nvector/nvector_serial.h>
@@ -311,7 +312,7 @@ static int bm_init(cont_solver *s, cont_bmat *bm, long m, int sparse,
     } else {
         bm->A = SUNDenseMatrix(m, m, s->ctx);
         if (!bm->A) return CONT_ENOMEM;
-        bm->LS = SUNLinSol_Dense(tmpl, bm->A, s->ctx);
+        bm->LS = cont_lapack_dense(tmpl, bm->A, s->ctx);   /* LAPACK LU (cont_lapack.h) */
     }
     if (!bm->LS) return CONT_ENOMEM;
     if (SUNLinSolInitialize(bm->LS) != 0) return CONT_ENOMEM;
@@ -462,19 +463,24 @@ static int bm_factor(cont_solver *s, cont_bmat *bm, int *sign, double *logdet)
             why(s, "KLU could not factorise the bordered matrix (flag %d, "
                 "singular or not finite)", r);
         else
-            why(s, "the bordered matrix is singular (zero pivot in column %d)", r - 1);
+            why(s, "the bordered matrix is singular (zero pivot in column %ld)",
+                (long)SUNLinSolLastFlag(bm->LS) - 1);
         return -1;
     }
     int sg = 1;
     double ld = 0.0;
     if (!bm->sparse) {
-        SUNLinearSolverContent_Dense content = (SUNLinearSolverContent_Dense)bm->LS->content;
+        const int *piv = cont_lapack_pivots(bm->LS);
+        if (!piv) {
+            why(s, "no LU factors of the bordered matrix");
+            return -1;
+        }
         for (long k = 0; k < m; k++) {
             double d = SM_ELEMENT_D(bm->A, k, k);
             if (d < 0) sg = -sg;
             else if (d == 0) sg = 0;
             ld += log(fabs(d));
-            if (content->pivots[k] != k) sg = -sg;
+            if (piv[k] - 1 != k) sg = -sg;
         }
     } else {
         sun_klu_numeric *num = SUNLinSol_KLUGetNumeric(bm->LS);

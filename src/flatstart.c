@@ -48,6 +48,8 @@
 extern void dgesvd_(const char *jobu, const char *jobvt, const int *m, const int *n,
                     double *a, const int *lda, double *s, double *u, const int *ldu,
                     double *vt, const int *ldvt, double *work, const int *lwork, int *info);
+extern void dgesv_(const int *n, const int *nrhs, double *a, const int *lda, int *ipiv, double *b,
+                   const int *ldb, int *info);
 extern void dgelss_(const int *m, const int *n, const int *nrhs, double *a, const int *lda,
                     double *b, const int *ldb, double *s, const double *rcond, int *rank,
                     double *work, const int *lwork, int *info);
@@ -134,6 +136,21 @@ static double maxabs(const double *v, int n)
     double m = 0.0;
     for (int i = 0; i < n; i++) m = fmax(m, fabs(v[i]));
     return m;
+}
+
+/* Solution of A x = b by LU (LAPACK dgesv; A n x n column-major,
+ * destroyed); nonzero when A is singular. */
+static int lusolve(int n, double *A, double *b)
+{
+    int one = 1, info;
+    int *ipiv = malloc(sizeof(int) * ((size_t)n + 1));
+    if (!ipiv) return -1;
+    dgesv_(&n, &one, A, &n, ipiv, b, &n, &info);
+    free(ipiv);
+    if (info != 0) return 1;
+    for (int i = 0; i < n; i++)
+        if (!isfinite(b[i])) return 1;
+    return 0;
 }
 
 /* Minimum-norm solution of A x = b (A n x n column-major, destroyed). */
@@ -293,8 +310,9 @@ double sf_limit_solve(const sf_limit *Lp, double *z, int maxit, int *iters)
     double *zt = calloc((size_t)n + 1, sizeof(double));
     double *Et = calloc((size_t)n + 1, sizeof(double));
     double *zn = calloc((size_t)n + 1, sizeof(double));
-    if (!E || !A || !zt || !Et || !zn) {
-        free(E); free(A); free(zt); free(Et); free(zn);
+    double *As = malloc(sizeof(double) * ((size_t)n * n + 1));
+    if (!E || !A || !zt || !Et || !zn || !As) {
+        free(E); free(A); free(zt); free(Et); free(zn); free(As);
         return -1.0;
     }
     memset(z, 0, sizeof(double) * (size_t)n);
@@ -314,8 +332,18 @@ double sf_limit_solve(const sf_limit *Lp, double *z, int maxit, int *iters)
             limit_eval(&L, zt, eps, E, A);
             en = maxabs(E, n);
             if (en <= LIMIT_TOL) { conv = 1; break; }
+            /* eps > 0 keeps the matrix regular: LU; at eps = 0 the
+             * combinations that stay degenerate need the minimum-norm step */
             for (int i = 0; i < n; i++) Et[i] = -E[i];
-            if (lstsq(n, A, Et)) break;
+            if (eps > 0.0) {
+                memcpy(As, A, sizeof(double) * (size_t)n * n);
+                if (lusolve(n, A, Et)) {
+                    for (int i = 0; i < n; i++) Et[i] = -E[i];
+                    if (lstsq(n, As, Et)) break;
+                }
+            } else if (lstsq(n, A, Et)) {
+                break;
+            }
             double t = 1.0, et = 0.0;
             for (int b = 0; b < 30; b++, t *= 0.5) {
                 for (int i = 0; i < n; i++) zn[i] = zt[i] + t * Et[i];
@@ -341,7 +369,7 @@ double sf_limit_solve(const sf_limit *Lp, double *z, int maxit, int *iters)
     }
     if (eps_ok != 0.0) en = fmax(en, 1.0);  /* did not reach eps = 0 */
     if (iters) *iters = total;
-    free(E); free(A); free(zt); free(Et); free(zn);
+    free(E); free(A); free(zt); free(Et); free(zn); free(As);
     return en;
 }
 
