@@ -4,25 +4,36 @@
  * (the flat sheet by default).  Used by `smoothfold check` and by `run`
  * when the start of an exact path fails (SF_ELOCKED, naming the vertices).
  *
- * Method.  First order: the rank of the loop-row Jacobian J at the base
- * state (rows scaled: rotation rows as they are, translation rows divided
- * by the mean fold width; SVD, LAPACK dgesvd, rank relative to the largest
- * singular value).  At the flat state that count is too generous: the
- * rotation about the normal and the in-plane translations of every loop
- * are of second order there, so their rows are zero.  Hence the probe: on
- * the sphere |q - q0| = r (r = 0.02 rad) look for a state that closes the
- * loops, by Gauss-Newton with minimum-norm steps (LAPACK dgelss) on
- * [g(q); (|q - q0|^2 - r^2) / (2 r)] from starts along the first-order
- * motions (null vectors of J) and deterministic pseudo-random mixtures of
- * them.  If one converges (scaled residual <= 1e-10) the constraints leave
- * motion, and the degrees of freedom are nq - rank J there (largest rank
- * over up to three such states, so that a singular state, where branches
- * cross, does not count extra freedom); if none does, the sheet (or the
- * vertex) is locked and `gap` is the smallest residual found, e.g. the
- * loop mismatch of a degree-4 vertex with K = 0 and finite widths at
- * |q| = r.  A finite-width vertex with no collinear folds needs at least 7
- * coordinates (6 loop equations plus one motion) unless its rows are
- * redundant; K >= 1 adds coordinates.
+ * Method, for the whole sheet (all coordinates, all loop rows) and for
+ * each vertex (its folds' coordinates, its six rows), about q0:
+ *  - First order: the rank of the loop-row Jacobian J at q0 (rows scaled:
+ *    rotation rows as they are, translation rows divided by the mean fold
+ *    width; LAPACK dgesvd, rank relative to the largest singular value).
+ *    At the flat state that count is too generous: the rotation about the
+ *    normal and the translations of every loop are of second order there,
+ *    their rows are zero.
+ *  - Second order, proof of locking: the combinations of rows in the left
+ *    null space of J (self-stresses) and their Hessians G_s.  If some
+ *    combination sum nu_s G_s is positive definite on the first-order
+ *    motions Z, no motion survives to second order (prestress stability;
+ *    Connelly and Whiteley, SIAM J. Discrete Math. 9, 1996): locked.  Found
+ *    by maximising the smallest eigenvalue over |nu| <= 1 (concave;
+ *    projected gradient ascent on a soft minimum, LAPACK dsyev).
+ *  - Motion: a state that closes the loops on the sphere |q - q0| = r
+ *    (r = 0.02 rad), by Gauss-Newton with minimum-norm steps (dgelss) on
+ *    [g(q); (|q - q0|^2 - r^2) / (2 r)], started along second-order
+ *    motions (the limit problem of flatstart.h with unit springs, under
+ *    the study's own loads and under random forces), then along
+ *    first-order motions.  If one converges (scaled residual <= 1e-10) the
+ *    degrees of freedom are nq - rank J there (largest rank over the states
+ *    found and two neighbours of each on the set, so that a state where
+ *    branches cross, e.g. one straight line folded alone, does not count
+ *    extra freedom).
+ *  - Neither: undecided (dof = -1; locking, if any, of higher order, or a
+ *    motion the probe did not find), with the smallest residual found.
+ * A finite-width vertex with K = 0 and no two folds on one line has as many
+ * fold angles as its degree against six loop equations: below degree 7 it
+ * is locked in general (tests/studies/deg4.cfg); K >= 1 adds coordinates.
  */
 #ifndef SF_MOBILITY_H
 #define SF_MOBILITY_H
