@@ -13,6 +13,7 @@
  *   9. branch switching
  */
 #include "cont.h"
+#include "cont_lapack.h"
 
 #include <kinsol/kinsol.h>
 #include <nvector/nvector_serial.h>
@@ -73,6 +74,8 @@ struct cont_solver {
     long n, m;
     int linsol;
     double *yscale_copy, *fscale_copy;
+    double *wy;              /* norm weights of y (cont_set_weights), NULL: all 1 */
+    double *ulast;           /* with wy: the Newton iterate at the last Jacobian, m */
     char (*labels)[16];
 
     /* options */
@@ -164,14 +167,17 @@ static void why(cont_solver *s, const char *fmt, ...)
 static double dotw(const cont_solver *s, const double *a, const double *b)
 {
     double d = 0.0;
-    for (long i = 0; i < s->n; i++) d += a[i] * b[i];
+    if (s->wy)
+        for (long i = 0; i < s->n; i++) d += s->wy[i] * a[i] * b[i];
+    else
+        for (long i = 0; i < s->n; i++) d += a[i] * b[i];
     return d + s->theta * s->theta * a[s->n] * b[s->n];
 }
 
 /* c = W t */
 static void weigh(const cont_solver *s, const double *t, double *c)
 {
-    for (long i = 0; i < s->n; i++) c[i] = t[i];
+    for (long i = 0; i < s->n; i++) c[i] = s->wy ? s->wy[i] * t[i] : t[i];
     c[s->n] = s->theta * s->theta * t[s->n];
 }
 
@@ -306,7 +312,7 @@ static int bm_init(cont_solver *s, cont_bmat *bm, long m, int sparse,
     } else {
         bm->A = SUNDenseMatrix(m, m, s->ctx);
         if (!bm->A) return CONT_ENOMEM;
-        bm->LS = SUNLinSol_Dense(tmpl, bm->A, s->ctx);
+        bm->LS = cont_lapack_dense(tmpl, bm->A, s->ctx);   /* LAPACK LU (cont_lapack.h) */
     }
     if (!bm->LS) return CONT_ENOMEM;
     if (SUNLinSolInitialize(bm->LS) != 0) return CONT_ENOMEM;
@@ -457,19 +463,24 @@ static int bm_factor(cont_solver *s, cont_bmat *bm, int *sign, double *logdet)
             why(s, "KLU could not factorise the bordered matrix (flag %d, "
                 "singular or not finite)", r);
         else
-            why(s, "the bordered matrix is singular (zero pivot in column %d)", r - 1);
+            why(s, "the bordered matrix is singular (zero pivot in column %ld)",
+                (long)SUNLinSolLastFlag(bm->LS) - 1);
         return -1;
     }
     int sg = 1;
     double ld = 0.0;
     if (!bm->sparse) {
-        SUNLinearSolverContent_Dense content = (SUNLinearSolverContent_Dense)bm->LS->content;
+        const int *piv = cont_lapack_pivots(bm->LS);
+        if (!piv) {
+            why(s, "no LU factors of the bordered matrix");
+            return -1;
+        }
         for (long k = 0; k < m; k++) {
             double d = SM_ELEMENT_D(bm->A, k, k);
             if (d < 0) sg = -sg;
             else if (d == 0) sg = 0;
             ld += log(fabs(d));
-            if (content->pivots[k] != k) sg = -sg;
+            if (piv[k] - 1 != k) sg = -sg;
         }
     } else {
         sun_klu_numeric *num = SUNLinSol_KLUGetNumeric(bm->LS);
@@ -536,6 +547,7 @@ static int kin_jac(N_Vector uv, N_Vector fv, SUNMatrix J, void *data,
     (void)fv; (void)t1; (void)t2;
     cont_solver *s = data;
     double *u = N_VGetArrayPointer(uv);
+    if (s->ulast) memcpy(s->ulast, u, (size_t)s->m * sizeof(double));
     if (call_jacobian(s, u, u[s->n]) != 0) return -1;
     if (J != s->bk.A) return -1;
     if (bm_build(s, &s->bk, s->bc) != 0) return -1;
@@ -561,6 +573,21 @@ static double scaled_norm2(const cont_solver *s, const double *v)
     return sqrt(r);
 }
 
+/* The norm of the Newton step test: KINSOL's scaled 2-norm, restricted by
+ * the norm weights when cont_set_weights gave them (a component left out
+ * of the arclength, e.g. a multiplier of a nearly redundant constraint, is
+ * then not required to settle to xtol: it is slaved to the others). */
+static double step_norm2(const cont_solver *s, const double *v)
+{
+    if (!s->wy) return scaled_norm2(s, v);
+    double r = 0.0;
+    for (long i = 0; i < s->m; i++) {
+        double a = v[i] * NV_Ith_S(s->uscale, i);
+        r += a * a * (i < s->n ? s->wy[i] : 1.0);
+    }
+    return sqrt(r);
+}
+
 /* Further exact Newton iterations on the corrector system (border s->bc,
  * s->bxa, s->bsig) at u, with the engine's own bordered factorisation,
  * until the scaled step is <= xtol (1 + |u|).  0 ok, -1 failed. */
@@ -581,7 +608,7 @@ static int polish(cont_solver *s, double *u, int *iters)
         for (long i = 0; i < m; i++) u[i] += d[i];
         (*iters)++;
         s->stp.newton_iters++;
-        if (scaled_norm2(s, d) <= s->xtol * (1.0 + scaled_norm2(s, u))) return 0;
+        if (step_norm2(s, d) <= s->xtol * (1.0 + step_norm2(s, u))) return 0;
     }
     why(s, "Newton converges too slowly (near a singular point?): the step is still "
         "above xtol = %.3g after 5 extra iterations", s->xtol);
@@ -615,8 +642,13 @@ static int correct(cont_solver *s, double *x, const double *c, const double *xa,
         /* a small residual is not enough where F is flat (near singular
          * points): also require a small last Newton step */
         double sl = 0.0;
-        KINGetStepLength(s->kmem, &sl);
-        if (sl > s->xtol * (1.0 + scaled_norm2(s, u))) {
+        if (s->wy && s->ulast) {
+            for (long i = 0; i < m; i++) s->w1[i] = u[i] - s->ulast[i];
+            sl = step_norm2(s, s->w1);
+        } else {
+            KINGetStepLength(s->kmem, &sl);
+        }
+        if (sl > s->xtol * (1.0 + step_norm2(s, u))) {
             int extra = 0;
             if (polish(s, u, &extra) != 0) ok = 0;
             if (nit) *nit += extra;
@@ -919,6 +951,8 @@ void cont_free(cont_solver *s)
     free(s->stamp);
     free(s->yscale_copy);
     free(s->fscale_copy);
+    free(s->wy);
+    free(s->ulast);
     free(s->labels);
     if (s->ctx) SUNContext_Free(&s->ctx);
     free(s);
@@ -1112,6 +1146,34 @@ int cont_set_theta(cont_solver *s, double theta_p)
     if (s->state == ST_RUN)
         return fail(s, CONT_ESTATE, "cont_set_theta: cannot change the norm during a run");
     s->theta = theta_p;
+    return CONT_OK;
+}
+
+int cont_set_weights(cont_solver *s, const double *w)
+{
+    NEED(s);
+    if (s->state == ST_RUN)
+        return fail(s, CONT_ESTATE, "cont_set_weights: cannot change the norm during a run");
+    if (!w) {
+        free(s->wy);
+        free(s->ulast);
+        s->wy = NULL;
+        s->ulast = NULL;
+        return CONT_OK;
+    }
+    double wmax = 0.0;
+    for (long i = 0; i < s->n; i++) {
+        if (!(w[i] >= 0) || !isfinite(w[i]))
+            return fail(s, CONT_EINPUT, "cont_set_weights: weight %ld is %g (need finite >= 0)",
+                        i, w[i]);
+        wmax = fmax(wmax, w[i]);
+    }
+    if (!(wmax > 0))
+        return fail(s, CONT_EINPUT, "cont_set_weights: all weights are zero");
+    if (!s->wy) s->wy = malloc((size_t)s->n * sizeof(double));
+    if (!s->ulast) s->ulast = calloc((size_t)s->m, sizeof(double));
+    if (!s->wy || !s->ulast) return fail(s, CONT_ENOMEM, "out of memory");
+    memcpy(s->wy, w, (size_t)s->n * sizeof(double));
     return CONT_OK;
 }
 
@@ -1765,8 +1827,10 @@ const char *cont_reference(void)
 /* 9. branch switching                                                    */
 /* ===================================================================== */
 
-/* Dense: SVD of A_s = [Jy, Fp/theta] (scaled coordinates). */
-static int branch_dense(cont_solver *s, const double *t1s, double *u, double *sigratio)
+/* Dense: SVD of A_s = [Jy, Fp/theta] (scaled coordinates).  t1w is the
+ * known tangent weighted by the norm (t1s itself without cont_set_weights). */
+static int branch_dense(cont_solver *s, const double *t1s, const double *t1w, double *u,
+                        double *sigratio)
 {
     long n = s->n, m = s->m;
     int in = (int)n, im = (int)m, one = 1, info = 0, lwork = -1;
@@ -1807,12 +1871,14 @@ static int branch_dense(cont_solver *s, const double *t1s, double *u, double *si
     double smin = S[n - 1];
     *sigratio = scale > 0 ? smin / scale : 0.0;
     double second = n >= 2 ? S[n - 2] / scale : 1.0;
-    double a = 0.0, bb = 0.0;
+    double a = 0.0, bb = 0.0, aw = 0.0, bw = 0.0;
     for (long j = 0; j < m; j++) {
         a += VT[(n - 1) + j * m] * t1s[j];
         bb += VT[n + j * m] * t1s[j];
+        aw += VT[(n - 1) + j * m] * t1w[j];
+        bw += VT[n + j * m] * t1w[j];
     }
-    for (long j = 0; j < m; j++) u[j] = bb * VT[(n - 1) + j * m] - a * VT[n + j * m];
+    for (long j = 0; j < m; j++) u[j] = bw * VT[(n - 1) + j * m] - aw * VT[n + j * m];
     free(S);
     free(VT);
     if (!(*sigratio <= BP_NULL_TOL))
@@ -1829,8 +1895,8 @@ static int branch_dense(cont_solver *s, const double *t1s, double *u, double *si
     return CONT_OK;
 }
 
-/* KLU: bordered system [[A_s; t1s^T] bv; cv^T 0] [phi; mu] = [0; 1]. */
-static int branch_sparse(cont_solver *s, const double *t1s, double *u, double *resid)
+/* KLU: bordered system [[A_s; t1w^T] bv; cv^T 0] [phi; mu] = [0; 1]. */
+static int branch_sparse(cont_solver *s, const double *t1w, double *u, double *resid)
 {
     long n = s->n, m = s->m, M = m + 1;
     int rc = CONT_OK;
@@ -1872,7 +1938,7 @@ static int branch_sparse(cont_solver *s, const double *t1s, double *u, double *r
                 anorm2 += v * v;
             }
         }
-        bi[k] = n; bx[k++] = t1s[j];
+        bi[k] = n; bx[k++] = t1w[j];
         bi[k] = m; bx[k++] = cv[j];
     }
     bp[n] = k;
@@ -1880,7 +1946,7 @@ static int branch_sparse(cont_solver *s, const double *t1s, double *u, double *r
         bi[k] = i; bx[k++] = s->Fp[i] / s->theta;
         anorm2 += s->Fp[i] * s->Fp[i] / (s->theta * s->theta);
     }
-    bi[k] = n; bx[k++] = t1s[n];
+    bi[k] = n; bx[k++] = t1w[n];
     bi[k] = m; bx[k++] = cv[n];
     bp[m] = k;
     for (long i = 0; i < m; i++) {
@@ -1946,8 +2012,9 @@ int cont_branch_direction(cont_solver *s, const double *y, double p,
         return fail(s, CONT_EINPUT, "cont_branch_direction: bad arguments");
     double t0 = now_sec();
     double *t1s = malloc((size_t)m * sizeof(double)), *u = calloc((size_t)m, sizeof(double));
-    if (!t1s || !u) {
-        free(t1s); free(u);
+    double *t1w = malloc((size_t)m * sizeof(double));
+    if (!t1s || !u || !t1w) {
+        free(t1s); free(u); free(t1w);
         return fail(s, CONT_ENOMEM, "out of memory");
     }
     double nrm = 0.0;
@@ -1959,19 +2026,25 @@ int cont_branch_direction(cont_solver *s, const double *y, double p,
     if (!(nrm > 0)) rc = fail(s, CONT_EINPUT, "cont_branch_direction: zero tangent");
     if (rc == CONT_OK) {
         for (long i = 0; i < m; i++) t1s[i] /= nrm;
+        /* the norm in the scaled coordinates (y, theta p) is diag(wy, 1) */
+        for (long i = 0; i < m; i++) t1w[i] = (s->wy && i < n) ? s->wy[i] * t1s[i] : t1s[i];
         if (call_jacobian(s, y, p) != 0)
             rc = fail(s, CONT_ENUMERIC, "cont_branch_direction: %s", s->why);
     }
     double q;
     if (rc == CONT_OK)
-        rc = s->linsol == CONT_LINSOL_KLU ? branch_sparse(s, t1s, u, &q)
-                                          : branch_dense(s, t1s, u, &q);
+        rc = s->linsol == CONT_LINSOL_KLU ? branch_sparse(s, t1w, u, &q)
+                                          : branch_dense(s, t1s, t1w, u, &q);
     if (rc == CONT_OK) {
         /* remove any t1 component, normalise, fix the sign */
-        double d = 0.0, nu = 0.0;
-        for (long i = 0; i < m; i++) d += u[i] * t1s[i];
-        for (long i = 0; i < m; i++) u[i] -= d * t1s[i];
-        for (long i = 0; i < m; i++) nu += u[i] * u[i];
+        double d = 0.0, tt = 0.0, nu = 0.0;
+        for (long i = 0; i < m; i++) {
+            d += u[i] * t1w[i];
+            tt += t1s[i] * t1w[i];
+        }
+        if (tt > 0)
+            for (long i = 0; i < m; i++) u[i] -= d / tt * t1s[i];
+        for (long i = 0; i < m; i++) nu += u[i] * u[i] * ((s->wy && i < n) ? s->wy[i] : 1.0);
         nu = sqrt(nu);
         if (!(nu > 0)) {
             rc = fail(s, CONT_ENUMERIC, "cont_branch_direction: no direction orthogonal to "
@@ -1988,6 +2061,7 @@ int cont_branch_direction(cont_solver *s, const double *y, double p,
         }
     }
     free(t1s);
+    free(t1w);
     free(u);
     if (s->state != ST_RUN) flush_stats(s, t0, 0);
     return rc;

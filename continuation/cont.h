@@ -26,7 +26,8 @@
  *
  * Norm.  y and p may have different units, so the arclength s is measured in
  * the weighted norm  |(dy, dp)|_W^2 = dy.dy + theta^2 dp^2  (option theta_p,
- * default 1; W = diag(1, ..., 1, theta^2)).  theta > 1 makes p weigh more,
+ * default 1; W = diag(1, ..., 1, theta^2); cont_set_weights replaces the
+ * ones by per-component weights).  theta > 1 makes p weigh more,
  * i.e. shorter steps in p; theta < 1 lets p move faster.  Tangents are unit
  * vectors in this norm; step sizes ds, ds_min, ds_max and s_max are in it.
  *
@@ -309,6 +310,14 @@ int cont_set_max_steps(cont_solver *s, long max_steps);
 int cont_set_max_arclength(cont_solver *s, double s_max);
 /* weight of p in the arclength norm, > 0, default 1 */
 int cont_set_theta(cont_solver *s, double theta_p);
+/* weights of the components of y in the arclength norm:
+ * |(dy, dp)|_W^2 = sum_i w[i] dy_i^2 + theta^2 dp^2, w[i] >= 0 (not all 0);
+ * NULL restores w = 1 (the default).  Copied.  A zero weight leaves a
+ * component out of the arclength, e.g. Lagrange multipliers, whose rates
+ * can dwarf those of the coordinates; the bordered systems stay regular as
+ * long as the tangent has a non-zero weighted part.  Branch directions are
+ * then W-orthogonal in this norm. */
+int cont_set_weights(cont_solver *s, const double *w);
 /* corrector: tolerance on max|fscale F| (default 1e-10), iterations
  * (default 10), strategy KIN_NONE (0, default) or KIN_LINESEARCH (1) */
 int cont_set_newton(cont_solver *s, double ftol, int max_iters, int strategy);

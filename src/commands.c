@@ -12,12 +12,48 @@
 #include <string.h>
 
 #include "kinematics.h"
+#include "mobility.h"
 #include "scene.h"
 #include "study.h"
 #include "topology.h"
 #include "vtk.h"
 
 static const char *vname(const sf_study *s, int v) { return s->vertices[v].name; }
+
+static void print_dof(int dof, int first, double gap, double radius)
+{
+    if (dof > 0) printf("%d degree%s of freedom (%d at first order)", dof, dof == 1 ? "" : "s", first);
+    else if (dof == 0) printf("locked (%d at first order; loops do not close better than %.2g "
+                              "at %g rad)", first, gap, radius);
+    else printf("undecided: no closed state found at %g rad (residual %.2g) and no proof "
+                "of locking (%d at first order)", radius, gap, first);
+}
+
+/* Degrees of freedom left by exact loop closure (src/mobility.h). */
+static int print_mobility(const sf_scene *sc, sf_error *err)
+{
+    sf_mobility mb;
+    if (sf_mobility_analyse(&sc->model, NULL, &mb, err)) return err->code;
+    const sf_study *s = &sc->study;
+    const sf_topology *t = &sc->topo;
+    printf("mobility with exact loop closure, about the flat sheet: ");
+    print_dof(mb.dof, mb.first_order, mb.gap, mb.radius);
+    printf("\n");
+    for (int v = 0; v < mb.nvertices; v++) {
+        const sf_mobility_vertex *mv = &mb.v[v];
+        printf("  vertex %s (degree %d, %d coordinates) alone: ",
+               vname(s, t->ivertices[v].vertex), t->ivertices[v].degree, mv->coords);
+        print_dof(mv->dof, mv->first_order, mv->gap, mb.radius);
+        printf("\n");
+    }
+    if (sf_mobility_locked(&mb)) {
+        char what[1500];
+        sf_mobility_describe(&sc->model, &mb, what, sizeof what);
+        printf("warning: %s\n", what);
+    }
+    sf_mobility_free(&mb);
+    return SF_OK;
+}
 
 int sf_cmd_check(const sf_options *o, sf_error *err)
 {
@@ -77,6 +113,10 @@ int sf_cmd_check(const sf_options *o, sf_error *err)
                s->probes[i].at[1]);
         if (p.fold >= 0) printf("on the band of fold %d\n", p.fold + 1);
         else printf("on face %d\n", p.face + 1);
+    }
+    if (t->nivertices > 0 && print_mobility(&sc, err)) {
+        sf_scene_close(&sc);
+        return err->code;
     }
     printf("analysis: %s\n", s->analysis_type);
     sf_scene_close(&sc);

@@ -23,6 +23,7 @@ int sf_equil_init(sf_equil *q, const sf_model *m, int param, int group, int prob
     q->group = group;
     q->load = load;
     q->disp_row = -1;
+    q->ramp_stage = -1;
     if (sf_energy_init(&q->e, m, err)) return err->code;
     if (sf_params_alloc(&q->e, &q->par) || sf_kin_alloc(m, &q->k)) {
         sf_equil_free(q);
@@ -154,6 +155,16 @@ void sf_equil_set_param(sf_equil *q, double p)
     for (int k = 0; k < ns; k++) {
         double x = lp - k;
         double lo = k == 0 ? -INFINITY : 0.0, hi = k == ns - 1 ? INFINITY : 1.0;
+        if (q->ramp_stage >= 0 && k != q->ramp_stage) {
+            /* one stage at a time: the others hold their value */
+            q->par.stage[k] = k < q->ramp_stage ? 1.0 : 0.0;
+            q->par.dstage[k] = 0.0;
+            continue;
+        }
+        if (q->ramp_stage >= 0) {
+            lo = -INFINITY;
+            hi = INFINITY;
+        }
         q->par.stage[k] = x <= lo ? lo : x >= hi ? hi : x;
         /* right derivative at the stage boundaries */
         int ramping = x >= lo && (x < hi || k == ns - 1);
@@ -340,7 +351,15 @@ int sf_equil_create_solver(sf_equil *q, cont_solver **out)
     prob.fscale = q->fscale;
     prob.user = q;
     *out = NULL;
-    return cont_create(&prob, CONT_LINSOL_DENSE, out);
+    int rc = cont_create(&prob, CONT_LINSOL_DENSE, out);
+    if (rc == CONT_OK && q->ncon > 0) {
+        double *w = calloc((size_t)q->n, sizeof(double));
+        if (!w) return CONT_ENOMEM;
+        for (int j = 0; j < q->nq; j++) w[j] = 1.0;
+        rc = cont_set_weights(*out, w);
+        free(w);
+    }
+    return rc;
 }
 
 int sf_equil_start_off_flat(sf_equil *q, double p1, double tol, double *y, sf_error *err)

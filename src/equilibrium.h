@@ -38,6 +38,8 @@ typedef struct sf_equil {
     int param;            /* SF_PARAM_* */
     int group;            /* actuated group (actuation) */
     double load;          /* load parameter value when p is not the load */
+    int ramp_stage;       /* load stage (0-based) followed alone, -1: all (see
+                             sf_equil_set_param) */
     int exact;            /* loop rows enforced by multipliers */
     int nq, nloop, nsup, ncon, n;
     /* support and displacement rows: point, component, prescribed value */
@@ -66,7 +68,11 @@ void sf_equil_free(sf_equil *q);
  * and for the penalty homotopy that starts exact paths off the flat state. */
 void sf_equil_use_penalty(sf_equil *q, double lR, double ld);
 
-/* A continuation solver (dense) for this problem. */
+/* A continuation solver (dense) for this problem.  When there are
+ * multipliers, the arclength norm weighs the coordinates q and p only
+ * (cont_set_weights: multipliers weigh 0): the multipliers of loop rows
+ * that are nearly redundant (second order near the flat state) are large
+ * and change fast, and would otherwise dominate the step length. */
 struct cont_solver;
 int sf_equil_create_solver(sf_equil *q, struct cont_solver **out);
 
@@ -77,7 +83,11 @@ int sf_equil_create_solver(sf_equil *q, struct cont_solver **out);
  * (lambda = k g).  Writes y = (q, lambda) for the exact problem. */
 int sf_equil_start_off_flat(sf_equil *q, double p1, double tol, double *y, sf_error *err);
 
-/* Parameter values for p (load factors, rest angles and their derivatives). */
+/* Parameter values for p (load factors, rest angles and their derivatives).
+ * With q->ramp_stage = k >= 0 (load parameter), stage k ramps linearly on
+ * both sides of [k, k + 1] and every other stage keeps its value there
+ * (0 before, 1 after): a path followed one stage at a time then has no
+ * corner where the continuation may step past the stage's end. */
 void sf_equil_set_param(sf_equil *q, double p);
 
 /* Callbacks for cont_problem (user = sf_equil *). */

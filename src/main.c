@@ -4,6 +4,8 @@
  * (applying --set overrides), builds its topology and model, and reports
  * the first error of any module as one line on stderr.
  */
+#define _GNU_SOURCE   /* RTLD_DEFAULT */
+#include <dlfcn.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
@@ -65,8 +67,23 @@ static int fail_usage(const char *msg)
     return 2;
 }
 
+/* OpenBLAS, when it is the LAPACK loaded: its worker threads are of no use
+ * on the small matrices here (at most a few hundred rows), and they spin
+ * for a while after they start, doubling the CPU time of a run and taking
+ * the other core of a shared machine.  One thread, and the idle workers
+ * stopped (as OpenBLAS itself does before a fork).  Looked up at run time,
+ * so that any LAPACK links. */
+static void single_threaded_blas(void)
+{
+    void (*set)(int) = (void (*)(int))dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
+    int (*stop)(void) = (int (*)(void))dlsym(RTLD_DEFAULT, "blas_thread_shutdown_");
+    if (set) set(1);
+    if (set && stop) stop();
+}
+
 int main(int argc, char **argv)
 {
+    single_threaded_blas();
     static const struct option longopts[] = {
         {"output", required_argument, NULL, 'o'},
         {"set", required_argument, NULL, 's'},

@@ -16,6 +16,9 @@
 #include "cont.h"
 #include "equilibrium.h"
 #include "run_dynamics.h"
+#include "flatstart.h"
+#include "mobility.h"
+#include "reactions.h"
 #include "scene.h"
 #include "stability.h"
 #include "study.h"
@@ -101,6 +104,9 @@ typedef struct run_ctx {
     run_bp *bp;
     int nbp, capbp, nextbp;
     sbuf bnotes;
+    int skip_start;       /* the next point repeats the last one (stage restart) */
+    double seg_end;       /* end of the stage being followed (multi-stage loads) */
+    sf_reactions reac;    /* reactions.tsv rows (supports, prescribed displacement) */
 } run_ctx;
 
 static double now(void)
@@ -210,6 +216,18 @@ static void stab_fields(run_ctx *r, sbuf *b)
 static int on_point(const cont_point *pt, void *data)
 {
     run_ctx *r = data;
+    if (r->skip_start) {
+        r->skip_start = 0;
+        return 0;
+    }
+    cont_point relabel;
+    if (strcmp(pt->label, "EP") == 0 && fabs(pt->p - r->seg_end) <= 1e-9 &&
+        fabs(r->seg_end - r->p_end) > 1e-9) {
+        /* the end of a load stage inside the path is a regular point */
+        relabel = *pt;
+        relabel.label[0] = '\0';
+        pt = &relabel;
+    }
     sf_equil *eq = &r->eq;
     const sf_model *m = eq->m;
     const sf_study *s = m->study;
@@ -223,6 +241,13 @@ static int on_point(const cont_point *pt, void *data)
     }
     sf_equil_report(eq, pt->y, pt->p, &Pi, &rr, &rt);
     double load = eq->param == SF_PARAM_LOAD ? pt->p : eq->load;
+    if (r->s_offset < 0) {
+        /* first point after a start off the flat state: the arclength
+         * from the flat state, in the norm of the path (q and p) */
+        double d2 = (pt->p - r->p_start) * (pt->p - r->p_start);
+        for (int j = 0; j < eq->nq; j++) d2 += pt->y[j] * pt->y[j];
+        r->s_offset = sqrt(d2);
+    }
     sbuf *b = &r->rows;
     double sarc = pt->s + r->s_offset;
     sb_printf(b, "%ld\t%d\t%.12g\t%.12g\t%.12g", r->npoints, r->branch, fin(sarc), fin(pt->p),
@@ -240,6 +265,7 @@ static int on_point(const cont_point *pt, void *data)
     sb_printf(b, "\t%s", pt->label);
     for (int i = 0; i < m->nfolds; i++) sb_printf(b, "\t%.12g", fin(pt->y[m->qoff[i]]));
     sb_printf(b, "\n");
+    if (eq->nsup) sf_reactions_add(&r->reac, eq, r->npoints, pt->y, pt->p, load);
     cont_stats last;
     memset(&last, 0, sizeof last);
     if (r->solver) cont_get_stats(r->solver, &last, NULL);
@@ -339,6 +365,11 @@ static int switch_branches(run_ctx *r)
                 snprintf(pvd, sizeof pvd, "%s/shapes_branch%d.pvd", r->dir, r->nbranches + 1);
                 sf_pvd_init(&r->pvd, pvd);
             }
+            /* a switched branch may run either way in p: the whole range,
+             * all load stages together */
+            r->eq.ramp_stage = -1;
+            r->seg_end = r->p_end;
+            cont_set_prange(cs, fmin(r->p_start, r->p_end), fmax(r->p_start, r->p_end));
             r->branch_first = 1;
             r->nbranches++;
             r->branch = r->nbranches;
@@ -359,6 +390,41 @@ static int switch_branches(run_ctx *r)
     }
     free(t2);
     return rc;
+}
+
+/* The start failed: when the loop constraints leave no motion (the whole
+ * sheet, or a vertex its own folds), say so instead (SF_ELOCKED). */
+static int explain_start_failure(run_ctx *r)
+{
+    sf_error *err = r->err;
+    if (r->eq.nloop == 0 || r->failed) return err->code;
+    sf_mobility mb;
+    sf_error merr;
+    sf_error_clear(&merr);
+    if (sf_mobility_analyse(r->eq.m, NULL, &mb, &merr)) return err->code;
+    if (sf_mobility_locked(&mb)) {
+        char what[1500];
+        sf_mobility_describe(r->eq.m, &mb, what, sizeof what);
+        sf_error_clear(err);
+        sf_fail(err, SF_ELOCKED, "%s: no equilibrium at the start of the path: %s",
+                r->eq.m->study->path, what);
+    }
+    sf_mobility_free(&mb);
+    return err->code;
+}
+
+/* Follow the load stage that contains p in direction dir: the stage ramps
+ * alone (sf_equil_set_param) and the parameter range ends where it ends
+ * (or at the path's end). */
+static void stage_segment(run_ctx *r, double p, int dir, double lo, double hi)
+{
+    int ns = r->eq.e.nstages;
+    int k = dir > 0 ? (int)floor(p + 1e-9) : (int)ceil(p - 1e-9) - 1;
+    k = k < 0 ? 0 : k > ns - 1 ? ns - 1 : k;
+    double e = dir > 0 ? (k == ns - 1 ? hi : fmin(k + 1.0, hi)) : (k == 0 ? lo : fmax(k, lo));
+    r->eq.ramp_stage = k;
+    r->seg_end = (dir > 0 ? e >= hi : e <= lo) ? r->p_end : e;
+    cont_set_prange(r->solver, dir > 0 ? lo : e, dir > 0 ? e : hi);
 }
 
 static int run_equilibrium(run_ctx *r)
@@ -403,6 +469,7 @@ static int run_equilibrium(run_ctx *r)
     if (sf_equil_init(&r->eq, &sc->model, ptype, gi, pi, component_index(comp), load, err))
         return err->code;
     sf_equil *eq = &r->eq;
+    sf_reactions_init(&r->reac, ptype == SF_PARAM_DISPLACEMENT ? pi : -1);
     if (s->constraints == SF_CONSTRAINTS_PENALTY)
         sf_equil_use_penalty(eq, s->penalty_rotation, s->penalty_translation);
     r->probes = calloc((size_t)s->nprobes + 1, sizeof(sf_mpoint));
@@ -437,6 +504,12 @@ static int run_equilibrium(run_ctx *r)
     double *y0 = calloc((size_t)eq->n + 1, sizeof(double));
     if (!y0) return sf_fail(err, SF_ENOMEM, "out of memory");
     int dir = end >= start ? +1 : -1, rc;
+    /* Loads in several stages: the path has a corner where a stage ends
+     * (the load changes direction), which the continuation takes for a
+     * branch jump; follow it one stage at a time instead. */
+    r->seg_end = end;
+    int staged = ptype == SF_PARAM_LOAD && eq->e.nstages > 1;
+    if (staged) stage_segment(r, start, dir, lo, hi);
     double F0norm = 0.0;
     {
         double *F0 = calloc((size_t)eq->n + 1, sizeof(double));
@@ -462,7 +535,8 @@ static int run_equilibrium(run_ctx *r)
         /* The flat state solves the exact problem at the start, but it is a
          * singular point of loop closure (multipliers of the second-order
          * rows are undetermined there).  Report it, then start the branch
-         * one step further from the penalty homotopy. */
+         * one step further from the limit of the branch at the flat state
+         * (src/flatstart.c; the penalty homotopy as the fallback). */
         cont_point p0;
         memset(&p0, 0, sizeof p0);
         p0.y = y0;
@@ -470,12 +544,15 @@ static int run_equilibrium(run_ctx *r)
         on_point(&p0, r);
         if (r->failed) { free(y0); return err->code; }
         double p1 = start + dir * fmin(step, 0.25 * fabs(end - start));
-        rc = sf_equil_start_off_flat(eq, p1, s->tolerance > 0 ? s->tolerance : 1e-10, y0, err);
-        if (rc) { free(y0); return rc; }
-        double d2 = (p1 - start) * (p1 - start);
-        for (int i = 0; i < eq->n; i++) d2 += y0[i] * y0[i];
-        r->s_offset = sqrt(d2);
-        rc = cont_start(cs, y0, p1, dir);
+        if (r->seg_end != end) p1 = start + dir * fmin(fabs(p1 - start), 0.25 * fabs(r->seg_end - start));
+        r->s_offset = -1.0;   /* set from the first point (on_point) */
+        rc = sf_equil_start_flat(eq, cs, start, p1, dir, s->tolerance > 0 ? s->tolerance : 1e-10,
+                                 y0, err);
+        if (rc) {
+            free(y0);
+            return explain_start_failure(r);
+        }
+        rc = CONT_OK;
     } else {
         rc = cont_start(cs, y0, start, dir);
         if (rc != CONT_OK && rested && !r->failed) {
@@ -484,15 +561,36 @@ static int run_equilibrium(run_ctx *r)
             rc = cont_start(cs, y0, start, dir);
         }
     }
-    free(y0);
     if (rc != CONT_OK) {
+        free(y0);
         if (r->failed) return err->code;
-        return sf_fail(err, SF_ENUMERIC, "%s: no equilibrium at the start of the path: %s%s",
-                       s->path, cont_errmsg(cs),
-                       eq->nloop ? " (exact loop closure: the KKT matrix may be singular here; "
-                                   "solver.constraints = \"penalty\" is the paper's method)" : "");
+        sf_fail(err, SF_ENUMERIC, "%s: no equilibrium at the start of the path: %s%s",
+                s->path, cont_errmsg(cs),
+                eq->nloop ? " (exact loop closure: the KKT matrix may be singular here; "
+                            "solver.constraints = \"penalty\" is the paper's method)" : "");
+        return explain_start_failure(r);
     }
     rc = cont_run(cs);
+    while (staged && rc == CONT_DONE && !r->failed && r->seg_end != end &&
+           cont_stop_reason(cs) == (dir > 0 ? CONT_STOP_PMAX : CONT_STOP_PMIN)) {
+        /* next stage, from the last point */
+        const cont_point *last = cont_get_point(cs);
+        double pb = last->p;
+        r->s_offset += last->s;
+        memcpy(y0, last->y, (size_t)eq->n * sizeof *y0);
+        stage_segment(r, pb, dir, lo, hi);
+        r->skip_start = 1;
+        if (cont_start(cs, y0, pb, dir) != CONT_OK) {
+            r->skip_start = 0;
+            if (r->failed) break;
+            free(y0);
+            return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: no restart at "
+                           "the end of load stage %d (p = %g): %s", s->path, r->npoints,
+                           (int)lround(pb), pb, cont_errmsg(cs));
+        }
+        rc = cont_run(cs);
+    }
+    free(y0);
     if (r->failed) return err->code;
     if (rc == CONT_FAIL)
         return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: %s", s->path,
@@ -552,6 +650,10 @@ static int write_outputs(run_ctx *r)
     WRITE("special.tsv", out);
     free(out.s);
 #undef WRITE
+    if (r->eq.nsup) {
+        snprintf(path, sizeof path, "%s/reactions.tsv", r->dir);
+        if (sf_reactions_write(&r->reac, &r->eq, path, r->header.s, err)) return err->code;
+    }
     if (r->nshapes > 0 && sf_pvd_write(&r->pvd, err)) return err->code;
     snprintf(path, sizeof path, "%s/study.cfg", r->dir);
     char hdr[256];
@@ -629,6 +731,7 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     }
     free(r.bp);
     if (r.do_stab) sf_stab_free(&r.stab);
+    sf_reactions_free(&r.reac);
     sf_pvd_free(&r.pvd);
     sf_scene_close(&sc);
     return rc;

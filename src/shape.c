@@ -91,6 +91,12 @@ int sf_section_init(sf_section *sec, double w, int continuity, int K,
                 g += sec->coef[i * nc + n] * sec->coef[j * nc + n] / (2.0 * n + 1.0);
             sec->gram[i * sec->nq + j] = g;
         }
+    sec->Phiq = malloc(sizeof(double) * (size_t)nquad * sec->nq);
+    if (!sec->Phiq) {
+        sf_section_free(sec);
+        return sf_fail(err, SF_ENOMEM, "out of memory");
+    }
+    for (int g = 0; g < nquad; g++) sf_section_basis(sec, sec->xg[g], NULL, sec->Phiq + (size_t)g * sec->nq);
     return SF_OK;
 }
 
@@ -100,6 +106,7 @@ void sf_section_free(sf_section *sec)
     free(sec->wg);
     free(sec->coef);
     free(sec->gram);
+    free(sec->Phiq);
     memset(sec, 0, sizeof *sec);
 }
 
@@ -198,7 +205,8 @@ static void section_quad(const sf_section *sec, int kind, const double *q,
         double sh = b * sec->xg[g];
         double wt = sec->w * b * sec->wg[g];
         if (kind == SF_SEC_CENTROID) wt *= 1.0 - sh;
-        sf_section_basis(sec, sh, NULL, Phi);
+        if (b == 1.0 && sec->Phiq) memcpy(Phi, sec->Phiq + (size_t)g * nq, sizeof(double) * (size_t)nq);
+        else sf_section_basis(sec, sh, NULL, Phi);
         double psi = 0.0;
         for (int j = 0; j < nq; j++) psi += q[j] * Phi[j];
         double c = cos(psi), s = sin(psi);

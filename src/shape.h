@@ -32,6 +32,8 @@ typedef struct sf_section {
     double *xg, *wg;   /* nodes and weights on [0, 1] */
     double *coef;      /* phi_j = sum_n coef[j*(K+3) + n] P_n(x), n <= K+2 */
     double *gram;      /* nq x nq, int_0^1 phi_i phi_j ds_hat */
+    double *Phiq;      /* nquad x nq: Phi_j at the nodes on [0, 1], cached for
+                          the integrals over the whole width (chord, centroid) */
 } sf_section;
 
 /* Which integral: see above. */

@@ -25,3 +25,4 @@ EXTRA_DIST += tests/test_vtk.sh
 include tests/equilibrium.mk
 EXTRA_DIST += tests/sf_test.h
 include tests/dynamics.mk
+include tests/paths.mk

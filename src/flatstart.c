@@ -1,0 +1,445 @@
+/* flatstart.c - the first point of an exact path off the flat state, from
+ * the limit of the branch as the parameter goes to its start value.
+ *
+ * Why the flat state is hard.  At q = 0 the rotation about the normal and
+ * the in-plane translations of every vertex loop (in general: every
+ * combination of constraint rows in the left null space of J(0), e.g. also
+ * in-plane point supports) have zero gradient; they are of second order in
+ * q.  Near the flat state the branch behaves like an inextensible string
+ * under a small transverse load: the coordinates grow like the parameter,
+ * q = dp u + O(dp^2), but the multipliers of the second-order rows tend to
+ * finite, non-zero values nu (a prestress of the flat sheet selected by
+ * the load; waterbomb2: about -47 N and -41 N on the in-plane translation
+ * rows of its two vertices under gravity), not to zero.  A start guess
+ * with those multipliers near zero, or with the penalty forces k g of a
+ * penalty solution (g being of second order, k g estimates them poorly,
+ * and a stiff penalty can land on an unstable penalty equilibrium where a
+ * vertex stays flat and its rows are degenerate), lies outside the region
+ * where Newton converges: that is why exact closure did not start for
+ * waterbomb2 and square4-corner.
+ *
+ * The limit problem.  Write y = (dp u, dp mu, nu) with mu the multipliers
+ * of the first-order row combinations and nu those of the second-order
+ * ones, and expand F(y; p0 + dp) in dp.  The leading terms, divided by dp
+ * (gradient and first-order rows) and by dp^2 (second-order rows), give a
+ * problem free of dp:
+ *     (H0 + sum_s nu_s G_s) u + J1^T mu + gp = 0
+ *      J1 u + c1 = 0
+ *      u^T G_s u / 2 = 0                    (each second-order combination s)
+ * with H0 the Hessian of Pi at the flat state, gp = d grad Pi / dp, J1 the
+ * first-order combinations of the constraint rows, c1 their derivative in
+ * p (a prescribed displacement) and G_s the Hessian of second-order
+ * combination s.  Its Jacobian is a KKT matrix whose constraint rows are
+ * J1 and (G_s u)^T: regular for a generic u, whatever dp is.  It is solved
+ * by a short homotopy (the second-order equations relaxed by eps nu, eps
+ * from 1 to 0) with Newton steps of minimum norm (LAPACK dgelss), then
+ * scaled back to a guess of the exact problem at p0 + dp, which is off by
+ * O(dp^2) only.
+ */
+#include "flatstart.h"
+
+#include "cont.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+extern void dgesvd_(const char *jobu, const char *jobvt, const int *m, const int *n,
+                    double *a, const int *lda, double *s, double *u, const int *ldu,
+                    double *vt, const int *ldvt, double *work, const int *lwork, int *info);
+extern void dgesv_(const int *n, const int *nrhs, double *a, const int *lda, int *ipiv, double *b,
+                   const int *ldb, int *info);
+extern void dgelss_(const int *m, const int *n, const int *nrhs, double *a, const int *lda,
+                    double *b, const int *ldb, double *s, const double *rcond, int *rank,
+                    double *work, const int *lwork, int *info);
+
+#define RANK_TOL 1e-8      /* relative singular value of a first-order row combination */
+#define LS_RCOND 1e-12     /* minimum-norm Newton steps of the limit problem */
+#define LIMIT_TOL 1e-12    /* scaled residual of the limit problem */
+#define LIMIT_MAXIT 60
+
+typedef sf_limit limit_problem;
+
+static void limit_free(limit_problem *L)
+{
+    free(L->H0);
+    free(L->gp);
+    free(L->cp);
+    free(L->U);
+    free(L->J1);
+    free(L->c1);
+    free(L->G);
+    memset(L, 0, sizeof *L);
+}
+
+/* Residual of the limit problem at z = (u, mu, nu); Jacobian A (n x n,
+ * column-major) when A is not NULL. */
+static void limit_eval(const limit_problem *L, const double *z, double eps, double *E, double *A)
+{
+    int nq = L->nq, n1 = L->n1, n2 = L->n2, n = L->n;
+    const double *u = z, *mu = z + nq, *nu = z + nq + n1;
+    double *Gu = malloc(sizeof(double) * ((size_t)n2 * nq + 1));
+    for (int s = 0; s < n2; s++) {
+        const double *Gs = L->G + (size_t)s * nq * nq;
+        for (int i = 0; i < nq; i++) {
+            double v = 0.0;
+            for (int j = 0; j < nq; j++) v += Gs[(size_t)i * nq + j] * u[j];
+            Gu[(size_t)s * nq + i] = v;
+        }
+    }
+    for (int i = 0; i < nq; i++) {
+        double v = L->gp[i];
+        for (int j = 0; j < nq; j++) v += L->H0[(size_t)i * nq + j] * u[j];
+        for (int s = 0; s < n2; s++) v += nu[s] * Gu[(size_t)s * nq + i];
+        for (int r = 0; r < n1; r++) v += L->J1[(size_t)r * nq + i] * mu[r];
+        E[i] = v;
+    }
+    for (int r = 0; r < n1; r++) {
+        double v = L->c1[r];
+        for (int j = 0; j < nq; j++) v += L->J1[(size_t)r * nq + j] * u[j];
+        E[nq + r] = v;
+    }
+    for (int s = 0; s < n2; s++) {
+        double v = 0.0;
+        for (int j = 0; j < nq; j++) v += u[j] * Gu[(size_t)s * nq + j];
+        E[nq + n1 + s] = 0.5 * v - eps * nu[s];
+    }
+    if (A) {
+        memset(A, 0, sizeof(double) * (size_t)n * n);
+#define AT(i, j) A[(size_t)(j) * n + (i)]
+        for (int i = 0; i < nq; i++)
+            for (int j = 0; j < nq; j++) {
+                double v = L->H0[(size_t)i * nq + j];
+                for (int s = 0; s < n2; s++)
+                    v += nu[s] * L->G[((size_t)s * nq + i) * nq + j];
+                AT(i, j) = v;
+            }
+        for (int r = 0; r < n1; r++)
+            for (int j = 0; j < nq; j++) {
+                AT(j, nq + r) = L->J1[(size_t)r * nq + j];
+                AT(nq + r, j) = L->J1[(size_t)r * nq + j];
+            }
+        for (int s = 0; s < n2; s++)
+            for (int j = 0; j < nq; j++) {
+                AT(j, nq + n1 + s) = Gu[(size_t)s * nq + j];
+                AT(nq + n1 + s, j) = Gu[(size_t)s * nq + j];
+            }
+        for (int s = 0; s < n2; s++) AT(nq + n1 + s, nq + n1 + s) = -eps;
+#undef AT
+    }
+    free(Gu);
+}
+
+static double maxabs(const double *v, int n)
+{
+    double m = 0.0;
+    for (int i = 0; i < n; i++) m = fmax(m, fabs(v[i]));
+    return m;
+}
+
+/* Solution of A x = b by LU (LAPACK dgesv; A n x n column-major,
+ * destroyed); nonzero when A is singular. */
+static int lusolve(int n, double *A, double *b)
+{
+    int one = 1, info;
+    int *ipiv = malloc(sizeof(int) * ((size_t)n + 1));
+    if (!ipiv) return -1;
+    dgesv_(&n, &one, A, &n, ipiv, b, &n, &info);
+    free(ipiv);
+    if (info != 0) return 1;
+    for (int i = 0; i < n; i++)
+        if (!isfinite(b[i])) return 1;
+    return 0;
+}
+
+/* Minimum-norm solution of A x = b (A n x n column-major, destroyed). */
+static int lstsq(int n, double *A, double *b)
+{
+    int one = 1, rank, info, lwork = -1;
+    double rcond = LS_RCOND, wq;
+    double *s = malloc(sizeof(double) * ((size_t)n + 1));
+    if (!s) return -1;
+    dgelss_(&n, &n, &one, A, &n, b, &n, s, &rcond, &rank, &wq, &lwork, &info);
+    lwork = (int)wq + 1;
+    double *w = malloc(sizeof(double) * (size_t)lwork);
+    if (!w) { free(s); return -1; }
+    dgelss_(&n, &n, &one, A, &n, b, &n, s, &rcond, &rank, w, &lwork, &info);
+    free(w);
+    free(s);
+    return info;
+}
+
+/* Value scale of constraint row r (as in the equilibrium problem's
+ * fscale): rotation rows 1, translation, support and displacement rows
+ * 1 / lref. */
+static double row_scale(const sf_equil *q, int r)
+{
+    return q->fscale[q->nq + r];
+}
+
+/* Gradient of constraint row r at the current kinematic state (order >= 1
+ * in q->k; loop rows from q->J, which must be filled). */
+static void row_gradient(sf_equil *q, int r, double *out)
+{
+    int nq = q->nq;
+    if (r < q->nloop) {
+        memcpy(out, q->J + (size_t)r * nq, sizeof(double) * (size_t)nq);
+        return;
+    }
+    int sr = r - q->nloop;
+    double x[3];
+    sf_point_eval(q->m, &q->k, &q->rowpt[sr], x, q->dx);
+    memcpy(out, q->dx + (size_t)q->rowc[sr] * nq, sizeof(double) * (size_t)nq);
+}
+
+/* Add sum_r w_r d2g_r/dq2 over all constraint rows to H (needs order 2). */
+static void rows_hessian_add(sf_equil *q, const double *w, double *H)
+{
+    int nq = q->nq;
+    if (q->nloop) sf_constraints(q->m, &q->k, NULL, NULL, w, H, nq);
+    for (int sr = 0; sr < q->nsup; sr++) {
+        double f[3] = {0, 0, 0};
+        f[q->rowc[sr]] = w[q->nloop + sr];
+        if (f[q->rowc[sr]] != 0.0) sf_point_hess_add(q->m, &q->k, &q->rowpt[sr], f, H, nq);
+    }
+}
+
+/* Build the limit problem at the flat state q = 0, parameter p0. */
+static int limit_build(sf_equil *q, double p0, limit_problem *L, sf_error *err)
+{
+    const sf_model *m = q->m;
+    int nq = q->nq, nc = q->ncon;
+    memset(L, 0, sizeof *L);
+    L->nq = nq;
+    L->ncon = nc;
+    double *z0 = calloc((size_t)nq + 1, sizeof(double));
+    double *Jr = malloc(sizeof(double) * ((size_t)nc * nq + 1));
+    double *Js = malloc(sizeof(double) * ((size_t)nc * nq + 1));
+    double *S = malloc(sizeof(double) * ((size_t)(nc < nq ? nq : nc) + 1));
+    double *lam = malloc(sizeof(double) * ((size_t)nc + 1));
+    double *grad = calloc((size_t)nq + 1, sizeof(double));
+    L->H0 = calloc((size_t)nq * nq + 1, sizeof(double));
+    L->gp = calloc((size_t)nq + 1, sizeof(double));
+    L->cp = calloc((size_t)nc + 1, sizeof(double));
+    L->U = malloc(sizeof(double) * ((size_t)nc * nc + 1));
+    int rc = SF_OK;
+    if (!z0 || !Jr || !Js || !S || !lam || !grad || !L->H0 || !L->gp || !L->cp || !L->U) {
+        rc = sf_fail(err, SF_ENOMEM, "out of memory");
+        goto done;
+    }
+    sf_equil_set_param(q, p0);
+    sf_kin_eval(m, z0, 2, &q->k);
+    sf_energy_eval(&q->e, &q->k, &q->par, grad, L->H0, nq, L->gp);
+    for (size_t i = 0; i < (size_t)nq * nq; i++) L->H0[i] /= q->kref;
+    for (int i = 0; i < nq; i++) L->gp[i] /= q->kref;
+    if (q->nloop) sf_constraints(m, &q->k, q->g, q->J, NULL, NULL, 0);
+    /* scaled rows, column-major for LAPACK: Js[j * nc + r] */
+    for (int r = 0; r < nc; r++) {
+        row_gradient(q, r, Jr + (size_t)r * nq);
+        for (int j = 0; j < nq; j++) Js[(size_t)j * nc + r] = row_scale(q, r) * Jr[(size_t)r * nq + j];
+    }
+    /* d g / dp: the displacement row's target is p */
+    if (q->disp_row >= 0) L->cp[q->nloop + q->disp_row] = -row_scale(q, q->nloop + q->disp_row);
+    {
+        int info, lwork = -1, ldvt = 1;
+        double wq, vt;
+        dgesvd_("A", "N", &nc, &nq, Js, &nc, S, L->U, &nc, &vt, &ldvt, &wq, &lwork, &info);
+        lwork = (int)wq + 1;
+        double *w = malloc(sizeof(double) * (size_t)lwork);
+        if (!w) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); goto done; }
+        dgesvd_("A", "N", &nc, &nq, Js, &nc, S, L->U, &nc, &vt, &ldvt, w, &lwork, &info);
+        free(w);
+        if (info != 0) { rc = sf_fail(err, SF_ENUMERIC, "flat start: SVD failed"); goto done; }
+    }
+    int kmax = nc < nq ? nc : nq, n1 = 0;
+    for (int i = 0; i < kmax; i++)
+        if (S[i] > RANK_TOL * S[0]) n1++;
+    L->n1 = n1;
+    L->n2 = nc - n1;
+    L->n = nq + L->n1 + L->n2;
+    /* the parameter must move the first-order combinations only: an
+     * in-plane prescribed displacement (second order at the flat state)
+     * has no limit of this form */
+    for (int c = n1; c < nc; c++) {
+        double v = 0.0;
+        for (int r = 0; r < nc; r++) v += L->U[(size_t)c * nc + r] * L->cp[r];
+        if (fabs(v) > 1e-8) {
+            rc = sf_fail(err, SF_EINPUT, "%s: the prescribed displacement is of second order at "
+                         "the flat state (in-plane): no linear start", m->study->path);
+            goto done;
+        }
+    }
+    L->J1 = calloc((size_t)n1 * nq + 1, sizeof(double));
+    L->c1 = calloc((size_t)n1 + 1, sizeof(double));
+    L->G = calloc((size_t)L->n2 * nq * nq + 1, sizeof(double));
+    if (!L->J1 || !L->c1 || !L->G) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); goto done; }
+    /* combination c of the scaled rows: weights U[:, c] on the scaled rows,
+     * i.e. U[r, c] * scale_r on the rows themselves */
+    for (int c = 0; c < n1; c++) {
+        for (int r = 0; r < nc; r++) L->c1[c] += L->U[(size_t)c * nc + r] * L->cp[r];
+        for (int j = 0; j < nq; j++) {
+            double v = 0.0;
+            for (int r = 0; r < nc; r++)
+                v += L->U[(size_t)c * nc + r] * row_scale(q, r) * Jr[(size_t)r * nq + j];
+            L->J1[(size_t)c * nq + j] = v;
+        }
+    }
+    for (int s = 0; s < L->n2; s++) {
+        int c = n1 + s;
+        for (int r = 0; r < nc; r++) lam[r] = L->U[(size_t)c * nc + r] * row_scale(q, r);
+        rows_hessian_add(q, lam, L->G + (size_t)s * nq * nq);
+    }
+done:
+    free(z0);
+    free(Jr);
+    free(Js);
+    free(S);
+    free(lam);
+    free(grad);
+    if (rc) limit_free(L);
+    return rc;
+}
+
+double sf_limit_solve(const sf_limit *Lp, double *z, int maxit, int *iters)
+{
+    const limit_problem L = *Lp;
+    int n = L.n;
+    double *E = calloc((size_t)n + 1, sizeof(double));
+    double *A = malloc(sizeof(double) * ((size_t)n * n + 1));
+    double *zt = calloc((size_t)n + 1, sizeof(double));
+    double *Et = calloc((size_t)n + 1, sizeof(double));
+    double *zn = calloc((size_t)n + 1, sizeof(double));
+    double *As = malloc(sizeof(double) * ((size_t)n * n + 1));
+    if (!E || !A || !zt || !Et || !zn || !As) {
+        free(E); free(A); free(zt); free(Et); free(zn); free(As);
+        return -1.0;
+    }
+    memset(z, 0, sizeof(double) * (size_t)n);
+    /* Homotopy in eps: the second-order equations relaxed to
+     * u^T G_s u / 2 = eps nu_s, a penalty of stiffness 1/eps (relative to
+     * the mean fold stiffness).  For large eps the solution is the
+     * first-order response (nu ~ 0, only J1 u = 0 enforced); eps is cut by
+     * 10 per level down to 1e-12, then set to 0.  Newton with
+     * minimum-norm steps and backtracking on the max-norm of the residual
+     * at each level, from the previous level's solution. */
+    int it = 0, total = 0;
+    double en = 0.0, eps = 1.0, eps_ok = -1.0;
+    for (int level = 0; level < 200 && total < maxit; level++) {
+        memcpy(zt, z, sizeof(double) * (size_t)n);
+        int conv = 0;
+        for (it = 0; it < LIMIT_MAXIT && total < maxit; it++, total++) {
+            limit_eval(&L, zt, eps, E, A);
+            en = maxabs(E, n);
+            if (en <= LIMIT_TOL) { conv = 1; break; }
+            /* eps > 0 keeps the matrix regular: LU; at eps = 0 the
+             * combinations that stay degenerate need the minimum-norm step */
+            for (int i = 0; i < n; i++) Et[i] = -E[i];
+            if (eps > 0.0) {
+                memcpy(As, A, sizeof(double) * (size_t)n * n);
+                if (lusolve(n, A, Et)) {
+                    for (int i = 0; i < n; i++) Et[i] = -E[i];
+                    if (lstsq(n, As, Et)) break;
+                }
+            } else if (lstsq(n, A, Et)) {
+                break;
+            }
+            double t = 1.0, et = 0.0;
+            for (int b = 0; b < 30; b++, t *= 0.5) {
+                for (int i = 0; i < n; i++) zn[i] = zt[i] + t * Et[i];
+                limit_eval(&L, zn, eps, E, NULL);
+                et = maxabs(E, n);
+                if (et < en) break;
+            }
+            if (!(et < en)) break;
+            memcpy(zt, zn, sizeof(double) * (size_t)n);
+        }
+        if (conv) {
+            memcpy(z, zt, sizeof(double) * (size_t)n);
+            eps_ok = eps;
+            if (eps == 0.0) break;
+            eps = eps <= 1.001e-12 ? 0.0 : eps * 0.1;
+        } else {
+            /* back off towards the last level that converged */
+            if (eps_ok < 0 || eps == eps_ok) break;
+            if (eps == 0.0) eps = eps_ok * 1e-2;
+            else eps = sqrt(eps * eps_ok);
+            if (eps_ok / eps < 1.01) break;
+        }
+    }
+    if (eps_ok != 0.0) en = fmax(en, 1.0);  /* did not reach eps = 0 */
+    if (iters) *iters = total;
+    free(E); free(A); free(zt); free(Et); free(zn); free(As);
+    return en;
+}
+
+int sf_equil_start_limit(sf_equil *q, double p0, double p1, double *y, sf_flatstart_info *info,
+                         sf_error *err)
+{
+    const sf_model *m = q->m;
+    if (info) memset(info, 0, sizeof *info);
+    if (q->ncon == 0)
+        return sf_fail(err, SF_EINPUT, "%s: the limit start needs constraint rows", m->study->path);
+    limit_problem L;
+    if (limit_build(q, p0, &L, err)) return err->code;
+    int n = L.n, nq = L.nq, n1 = L.n1, nc = L.ncon;
+    double *z = calloc((size_t)n + 1, sizeof(double));
+    int rc = SF_OK;
+    if (!z) {
+        rc = sf_fail(err, SF_ENOMEM, "out of memory");
+        goto done;
+    }
+    int it = 0;
+    double en = sf_limit_solve(&L, z, 20000, &it);
+    if (en < 0) {
+        rc = sf_fail(err, SF_ENOMEM, "out of memory");
+        goto done;
+    }
+    if (info) {
+        info->iterations = it;
+        info->residual = en;
+        info->first_order_rows = n1;
+        info->second_order_rows = L.n2;
+    }
+    if (!(en <= LIMIT_TOL * 1e3)) {
+        rc = sf_fail(err, SF_ENUMERIC, "%s: the limit problem of the flat state does not converge "
+                     "(residual %.3g after %d iterations)", m->study->path, en, it);
+        goto done;
+    }
+    /* back to the unknowns of the exact problem at p1 */
+    double dp = p1 - p0;
+    memset(y, 0, sizeof(double) * (size_t)q->n);
+    for (int j = 0; j < nq; j++) y[j] = dp * z[j];
+    for (int r = 0; r < nc; r++) {
+        double f = row_scale(q, r), v = 0.0;
+        for (int c = 0; c < n1; c++) v += L.U[(size_t)c * nc + r] * dp * z[nq + c];
+        for (int s = 0; s < L.n2; s++) v += L.U[(size_t)(n1 + s) * nc + r] * z[nq + n1 + s];
+        y[nq + r] = q->kref * f * v;
+    }
+done:
+    free(z);
+    limit_free(&L);
+    return rc;
+}
+
+int sf_equil_start_flat(sf_equil *q, struct cont_solver *cs, double p0, double p1, int dir,
+                        double tol, double *y, sf_error *err)
+{
+    sf_error lerr;
+    sf_error_clear(&lerr);
+    int rc = sf_equil_start_limit(q, p0, p1, y, NULL, &lerr);
+    if (rc == SF_OK && cont_start(cs, y, p1, dir) == CONT_OK) return SF_OK;
+    /* the penalty homotopy (sf_equil_start_off_flat) as the fallback */
+    char why[1100];
+    snprintf(why, sizeof why, "%s", rc ? lerr.msg : cont_errmsg(cs));
+    memset(y, 0, sizeof(double) * (size_t)q->n);
+    sf_error_clear(&lerr);
+    if (sf_equil_start_off_flat(q, p1, tol, y, &lerr))
+        return sf_fail(err, lerr.code, "%s: no equilibrium at p = %g off the flat state (limit "
+                       "start: %s; penalty start: %s)", q->m->study->path, p1, why, lerr.msg);
+    if (cont_start(cs, y, p1, dir) != CONT_OK)
+        return sf_fail(err, SF_ENUMERIC, "%s: no equilibrium at p = %g off the flat state "
+                       "(limit start: %s; from the penalty start: %s)", q->m->study->path, p1,
+                       why, cont_errmsg(cs));
+    return SF_OK;
+}

@@ -1,0 +1,52 @@
+/* flatstart.h - start of an exact path at the flat state from the limit of
+ * the branch (see the comment at the top of flatstart.c). */
+#ifndef SF_FLATSTART_H
+#define SF_FLATSTART_H
+
+#include "equilibrium.h"
+
+/* The limit problem (flatstart.c):
+ *     (H0 + sum_s nu_s G_s) u + J1^T mu + gp = 0,  J1 u + c1 = 0,
+ *     u^T G_s u / 2 = 0  (s < n2),
+ * unknowns z = (u, mu, nu), n = nq + n1 + n2.  U and cp belong to the
+ * equilibrium start (may be NULL otherwise). */
+typedef struct sf_limit {
+    int nq, ncon, n1, n2, n;
+    double *H0, *gp;          /* nq x nq (row-major, symmetric), nq */
+    double *cp;               /* ncon: d g / dp of the scaled rows */
+    double *U;                /* ncon x ncon left singular vectors of the scaled J(0), column-major */
+    double *J1;               /* n1 x nq */
+    double *c1;               /* n1 */
+    double *G;                /* n2 x nq x nq: Hessians of the second-order combinations */
+} sf_limit;
+
+/* Solve the limit problem by the eps homotopy (flatstart.c), at most maxit
+ * Newton iterations in all; z (n values) receives the solution.  Returns
+ * the final max-norm of the residual (>= 1 when the homotopy did not reach
+ * eps = 0), -1 when out of memory.  iters may be NULL. */
+double sf_limit_solve(const sf_limit *L, double *z, int maxit, int *iters);
+
+typedef struct sf_flatstart_info {
+    int iterations;          /* Newton iterations of the limit problem */
+    double residual;         /* its final scaled residual */
+    int first_order_rows;    /* loop-row combinations with a gradient at q = 0 */
+    int second_order_rows;   /* combinations of zero gradient at q = 0 */
+} sf_flatstart_info;
+
+/* Guess y (q->n values) of the exact problem at p1 near the flat state,
+ * which solves the problem at p0: y = (dp u, multipliers) with the limit
+ * problem's u and multipliers, dp = p1 - p0.  Needs exact loop rows and no
+ * support rows (their limit is not set up).  info may be NULL. */
+int sf_equil_start_limit(sf_equil *q, double p0, double p1, double *y,
+                         sf_flatstart_info *info, sf_error *err);
+
+/* Start the continuation solver cs (created for q) at p1 off the flat
+ * state, which solves the problem at p0: cont_start from the limit guess,
+ * and if that fails from sf_equil_start_off_flat's penalty homotopy.  y
+ * (q->n values) receives the guess used.  SF_OK, or the error with both
+ * reasons. */
+struct cont_solver;
+int sf_equil_start_flat(sf_equil *q, struct cont_solver *cs, double p0, double p1, int dir,
+                        double tol, double *y, sf_error *err);
+
+#endif

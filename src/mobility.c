@@ -1,0 +1,701 @@
+/* mobility.c - degrees of freedom left by the loop constraints (see
+ * mobility.h for the method). */
+#include "mobility.h"
+
+#include "energy.h"
+#include "flatstart.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+extern void dgesvd_(const char *jobu, const char *jobvt, const int *m, const int *n,
+                    double *a, const int *lda, double *s, double *u, const int *ldu,
+                    double *vt, const int *ldvt, double *work, const int *lwork, int *info);
+extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, const int *lda,
+                   double *w, double *work, const int *lwork, int *info);
+extern void dgelss_(const int *m, const int *n, const int *nrhs, double *a, const int *lda,
+                    double *b, const int *ldb, double *s, const double *rcond, int *rank,
+                    double *work, const int *lwork, int *info);
+
+#ifndef MOB_RADIUS
+#define MOB_RADIUS 0.02
+#endif
+#define MOB_RADIUS_UNUSED     /* rad: radius of the probe sphere about q0 */
+#define MOB_TOL 1e-10       /* scaled residual of a state that closes the loops */
+#define RANK_RTOL 1e-8      /* singular values below RANK_RTOL * sigma_max (and */
+#define RANK_ATOL 1e-12     /* below RANK_ATOL) do not count */
+#define MOB_MAXIT 40
+#define MOB_STARTS 6        /* Gauss-Newton starts from random first-order motions */
+#define MOB_LOCK 1e-3       /* locked when the residual exceeds MOB_LOCK r^2 */
+#define MOB_FORCES 2        /* second-order directions from random forces */
+#define MOB_FOUND 2         /* states on the constraint set, each perturbed twice */
+#define MOB_LIMIT_IT 400    /* Newton iterations of one limit problem */
+#define MOB_CERT_IT 300     /* gradient steps of the prestress certificate */
+#define MOB_CERT_TOL 1e-7   /* locked when lambda_min of the stress matrix exceeds this */
+
+/* Work space and the problem of one analysis: coordinates C (global
+ * indices) and rows R of the loop constraints. */
+typedef struct probe {
+    const sf_model *m;
+    sf_kin k;
+    int nq, ncon;
+    double lref;
+    double *q, *g, *J;        /* full state, all rows, full Jacobian */
+    int nc, nr;
+    int *C, *R;
+    double *A, *b, *S, *VT, *work;
+    int lwork;
+    double *Hs, *gs;          /* the study's: Hessian and gradient of Pi at q0,
+                                 every load and actuation at full value, or NULL */
+} probe;
+
+static double row_scale(const probe *P, int r) { return r % 6 < 3 ? 1.0 : 1.0 / P->lref; }
+
+/* Scaled rows R at P->q into out (nr), Jacobian (nr x nc, column-major
+ * with leading dimension ld) into A when not NULL. */
+static void eval_rows(probe *P, double *out, double *A, int ld)
+{
+    sf_kin_eval(P->m, P->q, A ? 1 : 0, &P->k);
+    sf_constraints(P->m, &P->k, P->g, A ? P->J : NULL, NULL, NULL, 0);
+    for (int i = 0; i < P->nr; i++) {
+        int r = P->R[i];
+        double f = row_scale(P, r);
+        out[i] = f * P->g[r];
+        if (A)
+            for (int j = 0; j < P->nc; j++) A[(size_t)j * ld + i] = f * P->J[(size_t)r * P->nq + P->C[j]];
+    }
+}
+
+static int lapack_work(probe *P, int need)
+{
+    if (need <= P->lwork) return 0;
+    double *w = realloc(P->work, sizeof(double) * (size_t)need);
+    if (!w) return -1;
+    P->work = w;
+    P->lwork = need;
+    return 0;
+}
+
+/* Singular values (and VT when want_vt) of the scaled rows' Jacobian at
+ * P->q; returns the rank, -1 on failure. */
+static int jacobian_rank(probe *P, int want_vt)
+{
+    int nr = P->nr, nc = P->nc, info, lw = -1, one = 1;
+    double wq, du;
+    double *tmp = P->b;   /* nr values, unused here */
+    eval_rows(P, tmp, P->A, nr);
+    const char *jv = want_vt ? "A" : "N";
+    if (nr == 0) return 0;
+    dgesvd_("N", jv, &nr, &nc, P->A, &nr, P->S, &du, &one, P->VT, &nc, &wq, &lw, &info);
+    if (info != 0 || lapack_work(P, (int)wq + 1)) return -1;
+    lw = P->lwork;
+    dgesvd_("N", jv, &nr, &nc, P->A, &nr, P->S, &du, &one, P->VT, &nc, P->work, &lw, &info);
+    if (info != 0) return -1;
+    int kmax = nr < nc ? nr : nc, rank = 0;
+    double tol = fmax(RANK_RTOL * P->S[0], RANK_ATOL);
+    for (int i = 0; i < kmax; i++)
+        if (P->S[i] > tol) rank++;
+    return rank;
+}
+
+/* Gauss-Newton from P->q on r(q) = [scaled rows R; (|q - q0|^2 -
+ * radius^2) / (2 radius)], minimum-norm steps (dgelss) with backtracking
+ * on |r|.  Returns the final max-norm of r, -1 on failure. */
+static double solve_on_sphere(probe *P, const double *q0, double radius)
+{
+    int nr = P->nr, nc = P->nc, m = nr + 1, one = 1, info, rank;
+    double rcond = 1e-12;
+    int ldb = m > nc ? m : nc;
+    double *d = malloc(sizeof(double) * (size_t)ldb);
+    double *rv = malloc(sizeof(double) * (size_t)m), *save = malloc(sizeof(double) * (size_t)P->nq);
+    double res = -1.0;
+    if (!d || !rv || !save) goto done;
+    for (int it = 0;; it++) {
+        eval_rows(P, rv, P->A, m);
+        double h = 0.0;
+        for (int j = 0; j < nc; j++) {
+            double dx = P->q[P->C[j]] - q0[P->C[j]];
+            h += dx * dx;
+            P->A[(size_t)j * m + nr] = dx / radius;
+        }
+        rv[nr] = (h - radius * radius) / (2.0 * radius);
+        double rinf = 0.0, r2 = 0.0;
+        for (int i = 0; i < m; i++) {
+            rinf = fmax(rinf, fabs(rv[i]));
+            r2 += rv[i] * rv[i];
+        }
+        res = rinf;
+        if (rinf <= 1e-2 * MOB_TOL || it >= MOB_MAXIT) break;
+        for (int i = 0; i < ldb; i++) d[i] = i < m ? -rv[i] : 0.0;
+        int lw = -1;
+        double wq;
+        dgelss_(&m, &nc, &one, P->A, &m, d, &ldb, P->S, &rcond, &rank, &wq, &lw, &info);
+        if (info != 0 || lapack_work(P, (int)wq + 1)) { res = -1.0; break; }
+        lw = P->lwork;
+        dgelss_(&m, &nc, &one, P->A, &m, d, &ldb, P->S, &rcond, &rank, P->work, &lw, &info);
+        if (info != 0) { res = -1.0; break; }
+        memcpy(save, P->q, sizeof(double) * (size_t)P->nq);
+        double t = 1.0;
+        int ok = 0;
+        for (int bt = 0; bt < 30 && !ok; bt++, t *= 0.5) {
+            for (int j = 0; j < nc; j++) P->q[P->C[j]] = save[P->C[j]] + t * d[j];
+            eval_rows(P, rv, NULL, m);
+            double hh = 0.0, t2 = 0.0;
+            for (int j = 0; j < nc; j++) {
+                double dx = P->q[P->C[j]] - q0[P->C[j]];
+                hh += dx * dx;
+            }
+            rv[nr] = (hh - radius * radius) / (2.0 * radius);
+            for (int i = 0; i < m; i++) t2 += rv[i] * rv[i];
+            ok = t2 < r2;
+        }
+        if (!ok) {
+            memcpy(P->q, save, sizeof(double) * (size_t)P->nq);
+            break;
+        }
+    }
+done:
+    free(d);
+    free(rv);
+    free(save);
+    return res;
+}
+
+/* Second-order data of rows R and coordinates C at q0: the first-order
+ * combinations J1 of the scaled rows, a basis Z of the first-order
+ * motions (null space of J), and for each self-stress s (a combination of
+ * the rows in the left null space of J, i.e. of second order) its Hessian
+ * G_s and the projection Gh_s = Z^T G_s Z. */
+typedef struct second_order {
+    int n1, n2, nnull;
+    double *J1;     /* n1 x nc */
+    double *Z;      /* nnull x nc (row a = null vector a) */
+    double *G;      /* n2 x nc x nc */
+    double *Gh;     /* n2 x nnull x nnull */
+} second_order;
+
+static void so_free(second_order *so)
+{
+    free(so->J1);
+    free(so->Z);
+    free(so->G);
+    free(so->Gh);
+    memset(so, 0, sizeof *so);
+}
+
+static int so_build(probe *P, const double *q0, second_order *so)
+{
+    int nr = P->nr, nc = P->nc, nq = P->nq, info, lw = -1;
+    memset(so, 0, sizeof *so);
+    double *U = malloc(sizeof(double) * ((size_t)nr * nr + 1));
+    double *w = calloc((size_t)P->ncon + 1, sizeof(double));
+    double *H = malloc(sizeof(double) * ((size_t)nq * nq + 1));
+    int rc = -1;
+    if (!U || !w || !H) goto done;
+    memcpy(P->q, q0, sizeof(double) * (size_t)nq);
+    eval_rows(P, P->b, P->A, nr);       /* leaves P->J at q0 as well */
+    double wq;
+    dgesvd_("A", "A", &nr, &nc, P->A, &nr, P->S, U, &nr, P->VT, &nc, &wq, &lw, &info);
+    if (info != 0 || lapack_work(P, (int)wq + 1)) goto done;
+    lw = P->lwork;
+    dgesvd_("A", "A", &nr, &nc, P->A, &nr, P->S, U, &nr, P->VT, &nc, P->work, &lw, &info);
+    if (info != 0) goto done;
+    int kmax = nr < nc ? nr : nc, n1 = 0;
+    double tol = fmax(RANK_RTOL * P->S[0], RANK_ATOL);
+    for (int i = 0; i < kmax; i++)
+        if (P->S[i] > tol) n1++;
+    so->n1 = n1;
+    so->n2 = nr - n1;
+    so->nnull = nc - n1;
+    int n2 = so->n2, nn = so->nnull;
+    so->J1 = calloc((size_t)n1 * nc + 1, sizeof(double));
+    so->Z = calloc((size_t)nn * nc + 1, sizeof(double));
+    so->G = calloc((size_t)n2 * nc * nc + 1, sizeof(double));
+    so->Gh = calloc((size_t)n2 * nn * nn + 1, sizeof(double));
+    if (!so->J1 || !so->Z || !so->G || !so->Gh) goto done;
+    for (int c = 0; c < n1; c++)
+        for (int j = 0; j < nc; j++) {
+            double v = 0.0;
+            for (int i = 0; i < nr; i++)
+                v += U[(size_t)c * nr + i] * row_scale(P, P->R[i]) * P->J[(size_t)P->R[i] * nq + P->C[j]];
+            so->J1[(size_t)c * nc + j] = v;
+        }
+    for (int a = 0; a < nn; a++)
+        for (int j = 0; j < nc; j++) so->Z[(size_t)a * nc + j] = P->VT[(size_t)j * nc + n1 + a];
+    sf_kin_eval(P->m, P->q, 2, &P->k);
+    double *GZ = malloc(sizeof(double) * ((size_t)nc * nn + 1));
+    if (!GZ) goto done;
+    for (int s2 = 0; s2 < n2; s2++) {
+        memset(w, 0, sizeof(double) * (size_t)P->ncon);
+        for (int i = 0; i < nr; i++) w[P->R[i]] = U[(size_t)(n1 + s2) * nr + i] * row_scale(P, P->R[i]);
+        memset(H, 0, sizeof(double) * (size_t)nq * nq);
+        sf_constraints(P->m, &P->k, NULL, NULL, w, H, nq);
+        double *Gs = so->G + (size_t)s2 * nc * nc;
+        for (int a = 0; a < nc; a++)
+            for (int b = 0; b < nc; b++) Gs[(size_t)a * nc + b] = H[(size_t)P->C[a] * nq + P->C[b]];
+        for (int a = 0; a < nc; a++)
+            for (int k2 = 0; k2 < nn; k2++) {
+                double v = 0.0;
+                for (int b = 0; b < nc; b++) v += Gs[(size_t)a * nc + b] * so->Z[(size_t)k2 * nc + b];
+                GZ[(size_t)k2 * nc + a] = v;
+            }
+        double *Ghs = so->Gh + (size_t)s2 * nn * nn;
+        for (int k1 = 0; k1 < nn; k1++)
+            for (int k2 = 0; k2 < nn; k2++) {
+                double v = 0.0;
+                for (int a = 0; a < nc; a++) v += so->Z[(size_t)k1 * nc + a] * GZ[(size_t)k2 * nc + a];
+                Ghs[(size_t)k1 * nn + k2] = v;
+            }
+    }
+    free(GZ);
+    rc = 0;
+done:
+    free(U);
+    free(w);
+    free(H);
+    if (rc) so_free(so);
+    return rc;
+}
+
+/* Prestress certificate (Connelly and Whiteley, "Second-order rigidity
+ * and prestress stability for tensegrity frameworks", SIAM J. Discrete
+ * Math. 9, 1996): if some self-stress nu makes M(nu) = sum_s nu_s Gh_s
+ * positive definite, no first-order motion u = Z v can satisfy the
+ * second-order conditions v^T Gh_s v = 0 for all s, so the rows lock C.
+ * lambda_min(M(nu)) is concave in nu: maximised over |nu| <= 1 (Gh scaled
+ * to unit size) by projected gradient ascent on a soft minimum of the
+ * eigenvalues (LAPACK dsyev).  Returns the best lambda_min found (> 0:
+ * locked; <= 0: no certificate), and in dirs (nc each) up to two
+ * candidate second-order motions Z v, v the eigenvectors of the two
+ * smallest eigenvalues at the optimum; *ndirs their number. */
+static double certificate(const probe *P, const second_order *so, double *dirs, int *ndirs)
+{
+    int nn = so->nnull, n2 = so->n2, nc = P->nc, info, lw = -1;
+    *ndirs = 0;
+    if (nn == 0) return HUGE_VAL;          /* no first-order motion at all */
+    if (n2 == 0) return -HUGE_VAL;         /* no self-stress: nothing to certify */
+    double scale = 0.0;
+    for (size_t i = 0; i < (size_t)n2 * nn * nn; i++) scale = fmax(scale, fabs(so->Gh[i]));
+    double *M = malloc(sizeof(double) * ((size_t)nn * nn + 1));
+    double *ev = malloc(sizeof(double) * ((size_t)nn + 1));
+    double *nu = calloc((size_t)n2 + 1, sizeof(double));
+    double *best_nu = calloc((size_t)n2 + 1, sizeof(double));
+    double *gr = calloc((size_t)n2 + 1, sizeof(double));
+    double wq, best = -HUGE_VAL;
+    double *work = NULL;
+    if (!M || !ev || !nu || !best_nu || !gr) goto done;
+    dsyev_("V", "U", &nn, M, &nn, ev, &wq, &lw, &info);
+    lw = (int)wq + 1;
+    work = malloc(sizeof(double) * (size_t)lw);
+    if (!work) goto done;
+    if (!(scale > 0)) goto done;
+    for (int it = 0; it <= MOB_CERT_IT; it++) {
+        int last = it == MOB_CERT_IT;
+        double *nuv = last ? best_nu : nu;
+        memset(M, 0, sizeof(double) * (size_t)nn * nn);
+        for (int s2 = 0; s2 < n2; s2++)
+            for (size_t i = 0; i < (size_t)nn * nn; i++) M[i] += nuv[s2] * so->Gh[(size_t)s2 * nn * nn + i] / scale;
+        dsyev_("V", "U", &nn, M, &nn, ev, work, &lw, &info);
+        if (info != 0) break;
+        if (last) {
+            /* candidate motions: eigenvectors of the smallest eigenvalues */
+            for (int k = 0; k < 2 && k < nn; k++) {
+                for (int j = 0; j < nc; j++) {
+                    double v = 0.0;
+                    for (int a = 0; a < nn; a++) v += M[(size_t)k * nn + a] * so->Z[(size_t)a * nc + j];
+                    dirs[(size_t)k * nc + j] = v;
+                }
+                (*ndirs)++;
+            }
+            break;
+        }
+        if (ev[0] > best) {
+            best = ev[0];
+            memcpy(best_nu, nu, sizeof(double) * (size_t)n2);
+        }
+        /* soft minimum: weights exp(-beta (lambda_i - lambda_min)) */
+        double beta = 10.0 * pow(1e4, (double)it / MOB_CERT_IT), wsum = 0.0;
+        for (int i = 0; i < nn; i++) wsum += exp(-beta * (ev[i] - ev[0]));
+        for (int s2 = 0; s2 < n2; s2++) {
+            const double *G = so->Gh + (size_t)s2 * nn * nn;
+            double g = 0.0;
+            for (int i = 0; i < nn; i++) {
+                double wi = exp(-beta * (ev[i] - ev[0])) / wsum;
+                if (wi < 1e-12) continue;
+                const double *vi = M + (size_t)i * nn;
+                double q = 0.0;
+                for (int a = 0; a < nn; a++) {
+                    double t = 0.0;
+                    for (int b = 0; b < nn; b++) t += G[(size_t)a * nn + b] * vi[b];
+                    q += vi[a] * t;
+                }
+                g += wi * q / scale;
+            }
+            gr[s2] = g;
+        }
+        double step = 0.5 / (1.0 + 0.05 * it), nrm = 0.0;
+        for (int s2 = 0; s2 < n2; s2++) {
+            nu[s2] += step * gr[s2];
+            nrm += nu[s2] * nu[s2];
+        }
+        nrm = sqrt(nrm);
+        if (nrm > 1.0)
+            for (int s2 = 0; s2 < n2; s2++) nu[s2] /= nrm;
+    }
+done:
+    free(M);
+    free(ev);
+    free(nu);
+    free(best_nu);
+    free(gr);
+    free(work);
+    return best;
+}
+
+/* Second-order motions as the response to random forces f of a unit
+ * spring on every coordinate: the limit problem of flatstart.h with
+ * H0 = I and gp = -f (a locked set has none: the homotopy does not reach
+ * eps = 0).  Writes up to nforce unit directions into D (nc each); returns
+ * how many, -1 when out of memory. */
+static int limit_directions(const probe *P, const second_order *so, int nforce, double *D)
+{
+    int with_study = P->Hs && P->gs;
+    int nc = P->nc, found = -1;
+    sf_limit L;
+    memset(&L, 0, sizeof L);
+    L.nq = nc;
+    L.n1 = so->n1;
+    L.n2 = so->n2;
+    L.n = nc + so->n1 + so->n2;
+    L.J1 = so->J1;
+    L.G = so->G;
+    L.H0 = calloc((size_t)nc * nc + 1, sizeof(double));
+    L.gp = calloc((size_t)nc + 1, sizeof(double));
+    L.c1 = calloc((size_t)so->n1 + 1, sizeof(double));
+    double *z = calloc((size_t)L.n + 1, sizeof(double));
+    if (!L.H0 || !L.gp || !L.c1 || !z) goto done;
+    found = 0;
+    unsigned long long st = 0x9E3779B97F4A7C15ULL;
+    for (int f = -with_study; f < nforce; f++) {
+        double nf = 0.0, hmax = 0.0;
+        memset(L.H0, 0, sizeof(double) * (size_t)nc * nc);
+        if (f < 0) {
+            /* the study's own loads and stiffness first */
+            for (int a = 0; a < nc; a++) {
+                L.gp[a] = P->gs[P->C[a]];
+                nf += L.gp[a] * L.gp[a];
+                for (int b = 0; b < nc; b++) {
+                    L.H0[(size_t)a * nc + b] = P->Hs[(size_t)P->C[a] * P->nq + P->C[b]];
+                    hmax = fmax(hmax, fabs(L.H0[(size_t)a * nc + b]));
+                }
+            }
+            if (!(nf > 0) || !(hmax > 0)) continue;
+            for (size_t i = 0; i < (size_t)nc * nc; i++) L.H0[i] /= hmax;
+        } else {
+            for (int j = 0; j < nc; j++) {
+                L.H0[(size_t)j * nc + j] = 1.0;
+                st = st * 6364136223846793005ULL + 1442695040888963407ULL;
+                L.gp[j] = (double)(st >> 11) / 9007199254740992.0 - 0.5;
+                nf += L.gp[j] * L.gp[j];
+            }
+        }
+        for (int j = 0; j < nc; j++) L.gp[j] /= sqrt(nf);
+        double res = sf_limit_solve(&L, z, MOB_LIMIT_IT, NULL);
+        if (res < 0) { found = -1; goto done; }
+        double nu = 0.0;
+        for (int j = 0; j < nc; j++) nu += z[j] * z[j];
+        nu = sqrt(nu);
+        if (res <= 1e-9 && nu > 1e-8) {
+            for (int j = 0; j < nc; j++) D[(size_t)found * nc + j] = z[j] / nu;
+            found++;
+        }
+    }
+done:
+    free(L.H0);
+    free(L.gp);
+    free(L.c1);
+    free(z);
+    return found;
+}
+
+/* One start of the probe: direction v (nc values, any length). */
+static int try_start(probe *P, const double *q0, const double *v, int *found, int *maxrank,
+                     double *best)
+{
+    int nc = P->nc;
+    double nv = 0.0;
+    for (int j = 0; j < nc; j++) nv += v[j] * v[j];
+    nv = sqrt(nv);
+    if (!(nv > 0)) return 0;
+    memcpy(P->q, q0, sizeof(double) * (size_t)P->nq);
+    for (int j = 0; j < nc; j++) P->q[P->C[j]] += MOB_RADIUS * v[j] / nv;
+    double res = solve_on_sphere(P, q0, MOB_RADIUS);
+    if (res < 0) return -1;
+    if (res <= MOB_TOL) {
+        /* the rank there, and at two states nearby on the set (a state
+         * where branches cross, e.g. a straight line folded alone, has
+         * redundant rows: the largest rank is that of the branch) */
+        double *x = malloc(sizeof(double) * (size_t)P->nq);
+        if (!x) return -1;
+        memcpy(x, P->q, sizeof(double) * (size_t)P->nq);
+        unsigned long long st = 0x853C49E6748FEA9BULL + (unsigned long long)*found;
+        for (int k = 0; k < 3; k++) {
+            if (k > 0) {
+                memcpy(P->q, x, sizeof(double) * (size_t)P->nq);
+                for (int j = 0; j < nc; j++) {
+                    st = st * 6364136223846793005ULL + 1442695040888963407ULL;
+                    P->q[P->C[j]] += 0.2 * MOB_RADIUS * ((double)(st >> 11) / 9007199254740992.0 - 0.5);
+                }
+                if (solve_on_sphere(P, q0, MOB_RADIUS) > MOB_TOL) continue;
+            }
+            int rk = jacobian_rank(P, 0);
+            if (rk < 0) { free(x); return -1; }
+            if (rk > *maxrank) *maxrank = rk;
+        }
+        free(x);
+        (*found)++;
+    } else if (res < *best) {
+        *best = res;
+    }
+    return 0;
+}
+
+/* Analyse coordinates C against rows R about q0: first-order count, dof
+ * (0: locked, -1: undecided), gap and the certificate value. */
+static int analyse(probe *P, const double *q0, int *first_order, int *dof, double *gap,
+                   double *cert)
+{
+    int nc = P->nc, rc = 0;
+    second_order so;
+    if (so_build(P, q0, &so)) return -1;
+    *first_order = so.nnull;
+    int nn = so.nnull;
+    double *v = malloc(sizeof(double) * ((size_t)nc + 1));
+    double *D = malloc(sizeof(double) * ((size_t)(MOB_FORCES + 3) * nc + 1));
+    if (!v || !D) { rc = -1; goto done; }
+    int nd = 0, found = 0, maxrank = -1;
+    double best = HUGE_VAL;
+    *cert = certificate(P, &so, D, &nd);
+    int locked = *cert > MOB_CERT_TOL;
+    /* look for states on the constraint set at |q - q0| = r: along the
+     * limit problem's second-order motions (the study's loads, random
+     * forces), then along first-order motions and mixtures of them.  A
+     * locked set only gets the certificate's candidates and the
+     * first-order motions (for the gap). */
+    if (locked) {
+        for (int s = 0; s < 2 * nd && !rc; s++) {
+            for (int j = 0; j < nc; j++) v[j] = (s % 2 ? -1.0 : 1.0) * D[(size_t)(s / 2) * nc + j];
+            rc = try_start(P, q0, v, &found, &maxrank, &best);
+        }
+    } else if (!rc) {
+        int nl = limit_directions(P, &so, MOB_FORCES, D);
+        if (nl < 0) rc = -1;
+        for (int s = 0; s < nl && found < MOB_FOUND && !rc; s++)
+            rc = try_start(P, q0, D + (size_t)s * nc, &found, &maxrank, &best);
+    }
+    for (int s = 0; s < 2 * nn && s < 4 && !found && !rc; s++) {
+        for (int j = 0; j < nc; j++) v[j] = (s % 2 ? -1.0 : 1.0) * so.Z[(size_t)(s / 2) * nc + j];
+        rc = try_start(P, q0, v, &found, &maxrank, &best);
+    }
+    unsigned long long st = 0x2545F4914F6CDD1DULL;
+    for (int s = 0; s < MOB_STARTS && !found && !locked && !rc; s++) {
+        memset(v, 0, sizeof(double) * (size_t)nc);
+        int nb = nn > 0 ? nn : nc;
+        for (int a = 0; a < nb; a++) {
+            st = st * 6364136223846793005ULL + 1442695040888963407ULL;
+            double c = (double)(st >> 11) / 9007199254740992.0 - 0.5;
+            for (int j = 0; j < nc; j++) v[j] += c * (nn > 0 ? so.Z[(size_t)a * nc + j] : (j == a ? 1.0 : 0.0));
+        }
+        rc = try_start(P, q0, v, &found, &maxrank, &best);
+    }
+    if (!rc) {
+        *gap = found ? 0.0 : best;
+        *dof = found ? nc - maxrank : locked ? 0 : -1;
+    }
+done:
+    so_free(&so);
+    free(v);
+    free(D);
+    return rc;
+}
+
+void sf_mobility_free(sf_mobility *mb)
+{
+    free(mb->v);
+    memset(mb, 0, sizeof *mb);
+}
+
+int sf_mobility_analyse(const sf_model *m, const double *q0in, sf_mobility *mb, sf_error *err)
+{
+    memset(mb, 0, sizeof *mb);
+    const sf_topology *t = m->topo;
+    int nq = m->nq, ncon = m->ncon, nv = t->nivertices;
+    mb->nq = nq;
+    mb->ncon = ncon;
+    mb->radius = MOB_RADIUS;
+    mb->nvertices = nv;
+    mb->v = calloc((size_t)nv + 1, sizeof *mb->v);
+    probe P;
+    memset(&P, 0, sizeof P);
+    P.m = m;
+    P.nq = nq;
+    P.ncon = ncon;
+    P.lref = 0.0;
+    for (int i = 0; i < m->nfolds; i++) P.lref += m->study->folds[i].width / m->nfolds;
+    if (!(P.lref > 0)) P.lref = 1.0;
+    size_t big = (size_t)(ncon + 1) * (nq + 1) + 1;
+    double *q0 = calloc((size_t)nq + 1, sizeof(double));
+    P.q = calloc((size_t)nq + 1, sizeof(double));
+    P.g = calloc((size_t)ncon + 1, sizeof(double));
+    P.J = calloc(big, sizeof(double));
+    P.C = malloc(sizeof(int) * ((size_t)nq + 1));
+    P.R = malloc(sizeof(int) * ((size_t)ncon + 1));
+    P.A = calloc(big, sizeof(double));
+    P.b = calloc((size_t)ncon + nq + 2, sizeof(double));
+    P.S = calloc((size_t)ncon + nq + 2, sizeof(double));
+    P.VT = calloc((size_t)nq * nq + 1, sizeof(double));
+    int rc = SF_OK;
+    if (!mb->v || !q0 || !P.q || !P.g || !P.J || !P.C || !P.R || !P.A || !P.b || !P.S || !P.VT ||
+        sf_kin_alloc(m, &P.k)) {
+        rc = sf_fail(err, SF_ENOMEM, "out of memory");
+        goto done;
+    }
+    if (q0in) memcpy(q0, q0in, sizeof(double) * (size_t)nq);
+    {
+        /* the study's loads and actuation at full value, as one more
+         * force to look for motions with (optional: skipped when the
+         * energy cannot be set up) */
+        sf_energy e;
+        sf_params par;
+        sf_error eerr;
+        sf_error_clear(&eerr);
+        if (sf_energy_init(&e, m, &eerr) == SF_OK) {
+            if (sf_params_alloc(&e, &par) == SF_OK) {
+                P.Hs = calloc((size_t)nq * nq + 1, sizeof(double));
+                P.gs = calloc((size_t)nq + 1, sizeof(double));
+                if (P.Hs && P.gs) {
+                    for (int k = 0; k < e.nstages; k++) par.stage[k] = 1.0;
+                    for (int i = 0; i < m->nfolds; i++) {
+                        const sf_fold_def *f = &m->study->folds[i];
+                        par.rest[i] = f->group >= 0 ? m->study->groups[f->group].rest_angle
+                                                    : f->rest_angle;
+                    }
+                    e.penalty = 0;
+                    sf_kin_eval(m, q0, 2, &P.k);
+                    sf_energy_eval(&e, &P.k, &par, P.gs, P.Hs, nq, NULL);
+                }
+                sf_params_free(&par);
+            }
+            sf_energy_free(&e);
+        }
+    }
+    /* the base state must close the loops */
+    sf_kin_eval(m, q0, 0, &P.k);
+    sf_constraints(m, &P.k, P.g, NULL, NULL, NULL, 0);
+    for (int r = 0; r < ncon; r++)
+        if (!(fabs(row_scale(&P, r) * P.g[r]) <= 1e-9)) {
+            rc = sf_fail(err, SF_EINPUT, "%s: mobility: the state does not close the loop of "
+                         "vertex %s (residual %.3g)", m->study->path,
+                         m->study->vertices[t->ivertices[r / 6].vertex].name, P.g[r]);
+            goto done;
+        }
+    /* each vertex under its own rows */
+    for (int v = 0; v < nv; v++) {
+        const sf_ivertex *iv = &t->ivertices[v];
+        P.nc = 0;
+        for (int a = 0; a < iv->degree; a++) {
+            int f = iv->folds[a], dup = 0;
+            for (int b = 0; b < a; b++) dup |= iv->folds[b] == f;
+            if (dup) continue;
+            for (int j = 0; j < m->qn[f]; j++) P.C[P.nc++] = m->qoff[f] + j;
+        }
+        P.nr = 6;
+        for (int e = 0; e < 6; e++) P.R[e] = 6 * v + e;
+        sf_mobility_vertex *mv = &mb->v[v];
+        mv->ivertex = v;
+        mv->coords = P.nc;
+        if (analyse(&P, q0, &mv->first_order, &mv->dof, &mv->gap, &mv->certificate)) {
+            rc = sf_fail(err, SF_ENUMERIC, "mobility: LAPACK failed");
+            goto done;
+        }
+        mb->nlocked += mv->dof == 0;
+    }
+    /* the whole sheet */
+    P.nc = nq;
+    for (int j = 0; j < nq; j++) P.C[j] = j;
+    P.nr = ncon;
+    for (int r = 0; r < ncon; r++) P.R[r] = r;
+    if (ncon == 0) {
+        mb->first_order = nq;
+        mb->dof = nq;
+    } else if (analyse(&P, q0, &mb->first_order, &mb->dof, &mb->gap, &mb->certificate)) {
+        rc = sf_fail(err, SF_ENUMERIC, "mobility: LAPACK failed");
+        goto done;
+    }
+done:
+    sf_kin_free(&P.k);
+    free(q0);
+    free(P.q);
+    free(P.g);
+    free(P.J);
+    free(P.C);
+    free(P.R);
+    free(P.A);
+    free(P.b);
+    free(P.S);
+    free(P.VT);
+    free(P.work);
+    free(P.Hs);
+    free(P.gs);
+    if (rc) sf_mobility_free(mb);
+    return rc;
+}
+
+int sf_mobility_locked(const sf_mobility *mb)
+{
+    return mb->dof == 0 || mb->nlocked > 0;
+}
+
+void sf_mobility_describe(const sf_model *m, const sf_mobility *mb, char *buf, size_t size)
+{
+    const sf_study *s = m->study;
+    const sf_topology *t = m->topo;
+    size_t n = 0;
+    buf[0] = '\0';
+#define ADD(...)                                                              \
+    do {                                                                      \
+        if (n < size) {                                                       \
+            int k_ = snprintf(buf + n, size - n, __VA_ARGS__);                \
+            n += k_ > 0 ? (size_t)k_ : 0;                                     \
+        }                                                                     \
+    } while (0)
+    if (!sf_mobility_locked(mb)) return;
+    if (mb->dof == 0)
+        ADD("the loop constraints leave the sheet no motion (%d coordinates, %d loop equations)",
+            mb->nq, mb->ncon);
+    else
+        ADD("the loop constraints leave the sheet %d degree%s of freedom, but not every vertex "
+            "can move", mb->dof, mb->dof == 1 ? "" : "s");
+    if (mb->nlocked > 0) {
+        ADD(": ");
+        int k = 0;
+        for (int v = 0; v < mb->nvertices; v++) {
+            const sf_mobility_vertex *mv = &mb->v[v];
+            if (mv->dof) continue;
+            ADD("%svertex %s (degree %d, %d coordinates for 6 loop equations, smallest loop "
+                "residual %.2g at %.2g rad)", k++ ? ", " : "",
+                s->vertices[t->ivertices[v].vertex].name, t->ivertices[v].degree, mv->coords,
+                mv->gap, mb->radius);
+        }
+        ADD(" lock%s %s folds", mb->nlocked == 1 ? "s" : "", mb->nlocked == 1 ? "its" : "their");
+    } else {
+        ADD(": each vertex alone can move, but together the loops of vertices ");
+        for (int v = 0; v < mb->nvertices; v++)
+            ADD("%s%s", v ? ", " : "", s->vertices[t->ivertices[v].vertex].name);
+        ADD(" do not");
+    }
+    ADD(" (more shape modes, defaults.modes = K >= 1, add coordinates)");
+#undef ADD
+}

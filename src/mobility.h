@@ -1,0 +1,83 @@
+/* mobility.h - how much motion the loop constraints leave the sheet
+ * (MODEL.md 4): degrees of freedom of the whole sheet and of each interior
+ * vertex under its own six loop rows, at a state that closes the loops
+ * (the flat sheet by default).  Used by `smoothfold check` and by `run`
+ * when the start of an exact path fails (SF_ELOCKED, naming the vertices).
+ *
+ * Method, for the whole sheet (all coordinates, all loop rows) and for
+ * each vertex (its folds' coordinates, its six rows), about q0:
+ *  - First order: the rank of the loop-row Jacobian J at q0 (rows scaled:
+ *    rotation rows as they are, translation rows divided by the mean fold
+ *    width; LAPACK dgesvd, rank relative to the largest singular value).
+ *    At the flat state that count is too generous: the rotation about the
+ *    normal and the translations of every loop are of second order there,
+ *    their rows are zero.
+ *  - Second order, proof of locking: the combinations of rows in the left
+ *    null space of J (self-stresses) and their Hessians G_s.  If some
+ *    combination sum nu_s G_s is positive definite on the first-order
+ *    motions Z, no motion survives to second order (prestress stability;
+ *    Connelly and Whiteley, SIAM J. Discrete Math. 9, 1996): locked.  Found
+ *    by maximising the smallest eigenvalue over |nu| <= 1 (concave;
+ *    projected gradient ascent on a soft minimum, LAPACK dsyev).
+ *  - Motion: a state that closes the loops on the sphere |q - q0| = r
+ *    (r = 0.02 rad), by Gauss-Newton with minimum-norm steps (dgelss) on
+ *    [g(q); (|q - q0|^2 - r^2) / (2 r)], started along second-order
+ *    motions (the limit problem of flatstart.h with unit springs, under
+ *    the study's own loads and under random forces), then along
+ *    first-order motions.  If one converges (scaled residual <= 1e-10) the
+ *    degrees of freedom are nq - rank J there (largest rank over the states
+ *    found and two neighbours of each on the set, so that a state where
+ *    branches cross, e.g. one straight line folded alone, does not count
+ *    extra freedom).
+ *  - Neither: undecided (dof = -1; locking, if any, of higher order, or a
+ *    motion the probe did not find), with the smallest residual found.
+ * A finite-width vertex with K = 0 and no two folds on one line has as many
+ * fold angles as its degree against six loop equations: below degree 7 it
+ * is locked in general (tests/studies/deg4.cfg); K >= 1 adds coordinates.
+ */
+#ifndef SF_MOBILITY_H
+#define SF_MOBILITY_H
+
+#include <stddef.h>
+
+#include "kinematics.h"
+#include "sf_error.h"
+
+typedef struct sf_mobility_vertex {
+    int ivertex;        /* interior vertex (topology index) */
+    int coords;         /* coordinates of its folds */
+    int first_order;    /* coords - rank of its rows at the base state */
+    int dof;            /* degrees of freedom under its own rows; 0: locked,
+                           -1: undecided */
+    double gap;         /* no motion found: smallest scaled loop residual at |q - q0| = r */
+    double certificate; /* largest lambda_min of a stress matrix (> 0: locked) */
+} sf_mobility_vertex;
+
+typedef struct sf_mobility {
+    int nq, ncon;
+    double radius;      /* r [rad] of the probe sphere */
+    int first_order;    /* nq - rank J(q0) */
+    int dof;            /* degrees of freedom of the whole sheet; 0: locked,
+                           -1: undecided */
+    double gap;         /* no motion found: smallest scaled residual at |q - q0| = r */
+    double certificate; /* largest lambda_min of a stress matrix (> 0: locked) */
+    int nvertices;
+    sf_mobility_vertex *v;
+    int nlocked;        /* vertices whose own rows lock their folds */
+} sf_mobility;
+
+/* Analyse the loop constraints of m about q0 (nq values; NULL: the flat
+ * sheet), which must close the loops.  Fails with SF_EINPUT when q0 does
+ * not, SF_ENOMEM, SF_ENUMERIC when LAPACK fails. */
+int sf_mobility_analyse(const sf_model *m, const double *q0, sf_mobility *mb, sf_error *err);
+void sf_mobility_free(sf_mobility *mb);
+
+/* Is the whole sheet, or any vertex, without motion? */
+int sf_mobility_locked(const sf_mobility *mb);
+
+/* One line (no newline) naming what is locked, e.g. "the loop constraints
+ * leave the sheet no motion at the flat state: vertex v7 (degree 4, 4
+ * coordinates for 6 loop equations) locks its folds"; "" when nothing is. */
+void sf_mobility_describe(const sf_model *m, const sf_mobility *mb, char *buf, size_t size);
+
+#endif
