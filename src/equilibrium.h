@@ -50,6 +50,11 @@ typedef struct sf_equil {
     /* scratch */
     double *grad, *H, *gp, *g, *J, *dx;
     long nres, njac;
+    /* sparse linear algebra (sf_equil_use_sparse): dense assembly, then
+     * compressed to CSC over the union of the nonzero patterns seen */
+    int sparse;
+    SUNMatrix Jd;
+    unsigned char *pattern;
 } sf_equil;
 
 int sf_equil_init(sf_equil *q, const sf_model *m, int param, int group,
@@ -61,7 +66,14 @@ void sf_equil_free(sf_equil *q);
  * and for the penalty homotopy that starts exact paths off the flat state. */
 void sf_equil_use_penalty(sf_equil *q, double lR, double ld);
 
-/* A continuation solver (dense) for this problem. */
+/* Solve the Newton systems with KLU on a compressed sparse (CSC) Jacobian
+ * instead of dense LU (solver.linear_solver = "sparse").  The Jacobian is
+ * assembled densely, then compressed: what changes is the factorisation. */
+void sf_equil_use_sparse(sf_equil *q, int sparse);
+int sf_equil_jacobian_sparse(const double *y, double p, SUNMatrix Jy, double *Fp, void *user);
+
+/* A continuation solver for this problem: dense LU, or KLU after
+ * sf_equil_use_sparse. */
 struct cont_solver;
 int sf_equil_create_solver(sf_equil *q, struct cont_solver **out);
 

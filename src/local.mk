@@ -11,5 +11,6 @@ src_libsmoothfold_a_SOURCES += src/vtk.c src/vtk.h src/scene.c src/scene.h
 src_smoothfold_SOURCES += src/commands.c src/commands.h
 src_libsmoothfold_a_SOURCES += src/energy.c src/energy.h
 src_libsmoothfold_a_SOURCES += src/equilibrium.c src/equilibrium.h
+src_libsmoothfold_a_SOURCES += src/compare.c src/compare.h
 src_smoothfold_SOURCES += src/run.c
 EXTRA_DIST += plots/path.gp plots/angles.gp

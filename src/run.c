@@ -13,6 +13,7 @@
 #include <time.h>
 
 #include "commands.h"
+#include "compare.h"
 #include "cont.h"
 #include "equilibrium.h"
 #include "scene.h"
@@ -76,6 +77,10 @@ typedef struct run_ctx {
     int failed;
     double s_offset;      /* arclength before the engine's first point */
     cont_solver *solver;
+    sf_compare *cmp;      /* reference data of the study (compare.h), or NULL */
+    int block, compared;  /* branch block of the points; comparison done */
+    long last_index;
+    cont_stats tot;       /* solver totals of the path (before the comparison) */
 } run_ctx;
 
 static double now(void)
@@ -168,6 +173,15 @@ static int on_point(const cont_point *pt, void *data)
                (pt->p - r->next_shape) * (r->p_end >= r->p_start ? 1 : -1) >= -1e-12)
             r->next_shape += (r->p_end >= r->p_start ? 1 : -1) * r->shape_dp;
     }
+    if (r->cmp) {
+        /* reference comparison: a new branch block starts where the engine restarts */
+        if (pt->index == 0 && r->last_index > 0) r->block++;
+        r->last_index = pt->index;
+        if (sf_compare_add(r->cmp, eq, r->probes, pt->y, pt->p, r->block, r->err)) {
+            r->failed = 1;
+            return 1;
+        }
+    }
     if (!r->opt->quiet) {
         fprintf(stderr, "point %4ld  p %-11.6g s %-10.4g newton %2d  |g| %-9.2g", r->npoints,
                 pt->p, sarc, pt->newton_iters, fmax(rr, rt));
@@ -215,6 +229,9 @@ static int run_equilibrium(run_ctx *r)
     sf_equil *eq = &r->eq;
     if (s->constraints == SF_CONSTRAINTS_PENALTY)
         sf_equil_use_penalty(eq, s->penalty_rotation, s->penalty_translation);
+    const char *linsol;
+    if (sf_study_string(s, "solver.linear_solver", "dense", &linsol, err)) return err->code;
+    sf_equil_use_sparse(eq, strcmp(linsol, "sparse") == 0);
     r->probes = calloc((size_t)s->nprobes + 1, sizeof(sf_mpoint));
     if (!r->probes) return sf_fail(err, SF_ENOMEM, "out of memory");
     for (int i = 0; i < s->nprobes; i++)
@@ -350,6 +367,7 @@ static int write_outputs(run_ctx *r)
     snprintf(hdr, sizeof hdr, "merged study run by smoothfold %s (after --set overrides)",
              PACKAGE_VERSION);
     if (sf_study_write(s, path, hdr, err)) return err->code;
+    if (r->compared && sf_compare_write(r->cmp, r->dir, r->header.s, err)) return err->code;
     return SF_OK;
 }
 
@@ -375,6 +393,7 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     }
     char shapes[1100];
     snprintf(shapes, sizeof shapes, "%s/shapes", r.dir);
+    if (!rc) rc = sf_compare_open(&r.cmp, &sc.study, err);   /* bad reference files: before any output */
     if (!rc) rc = make_dir(r.dir, err);
     if (!rc && sc.study.shapes > 0) rc = make_dir(shapes, err);
     if (!rc) {
@@ -393,15 +412,21 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
             if (write_outputs(&r) == SF_OK) *err = keep;
             rc = err->code;
         } else if (!rc) {
-            rc = write_outputs(&r);
+            cont_get_stats(r.solver, NULL, &r.tot);
+            if (r.cmp) {
+                rc = sf_compare_eval(r.cmp, &r.eq, r.probes, r.solver, err);
+                r.compared = !rc;
+            }
+            if (!rc) rc = write_outputs(&r);
         }
     }
     if (!rc && !o->quiet) {
-        cont_stats tot;
-        cont_get_stats(r.solver, NULL, &tot);
         printf("%s: %ld points, %ld Newton iterations, %.3g s; results in %s\n", sc.study.name,
-               r.npoints, tot.newton_iters, now() - t0, r.dir);
+               r.npoints, r.tot.newton_iters, now() - t0, r.dir);
+        sf_compare_print(r.cmp, stdout);
     }
+    if (!rc && r.compared) rc = sf_compare_check(r.cmp, err);
+    sf_compare_free(r.cmp);
     if (r.solver) cont_free(r.solver);
     sf_equil_free(&r.eq);
     free(r.probes);
