@@ -611,31 +611,77 @@ int sf_compare_add(sf_compare *c, sf_equil *eq, const sf_mpoint *probes,
 /* Placing rows on the path                                                 */
 /* ---------------------------------------------------------------------- */
 
+/* The recorded points as a curve: consecutive exact duplicates dropped,
+ * each point with its cumulative chord length t in (yscale * y, p) within
+ * its block (a discrete arclength: every quantity is a smooth function of
+ * t, also through limit points, where it is not a function of p). */
+typedef struct curve {
+    int n;
+    int *pt;            /* point index of each curve node */
+    double *t;          /* chord length from the block's first node */
+} curve;
+
+static int make_curve(const sf_compare *c, const sf_equil *eq, curve *cv)
+{
+    cv->n = 0;
+    cv->pt = malloc(sizeof(int) * (size_t)(c->npts + 1));
+    cv->t = malloc(sizeof(double) * (size_t)(c->npts + 1));
+    if (!cv->pt || !cv->t) return SF_ENOMEM;
+    for (int i = 0; i < c->npts; i++) {
+        double t = 0.0;
+        if (cv->n > 0 && c->pblock[cv->pt[cv->n - 1]] == c->pblock[i]) {
+            int j = cv->pt[cv->n - 1];
+            double d2 = 0.0;
+            for (int k = 0; k < c->ny; k++) {
+                double d = (c->py[(size_t)i * c->ny + k] - c->py[(size_t)j * c->ny + k]) * eq->yscale[k];
+                d2 += d * d;
+            }
+            double dp = c->pv[(size_t)i * c->nq + Q_P] - c->pv[(size_t)j * c->nq + Q_P];
+            d2 += dp * dp;
+            if (d2 == 0.0) continue;            /* the same point again */
+            t = cv->t[cv->n - 1] + sqrt(d2);
+        }
+        cv->pt[cv->n] = i;
+        cv->t[cv->n] = t;
+        cv->n++;
+    }
+    return SF_OK;
+}
+
+static double xval(const sf_compare *c, int i, int xq) { return c->pv[(size_t)i * c->nq + xq]; }
+
+static int same_block(const sf_compare *c, const curve *cv, int a, int b)
+{
+    return a >= 0 && b >= 0 && a < cv->n && b < cv->n && c->pblock[cv->pt[a]] == c->pblock[cv->pt[b]];
+}
+
 typedef struct piece {
-    int start, n;       /* into the index array */
+    int start, n;       /* into the node index array */
 } piece;
 
-/* Cut the recorded points into pieces strictly monotone in quantity xq. */
-static int make_pieces(const sf_compare *c, int xq, int **idx_out, piece **pc_out, int *npc)
+/* Cut the curve into pieces strictly monotone in quantity xq: a new piece
+ * starts at each new block and at each turning point of x (shared by the
+ * two pieces).  Nodes where x does not move are left out of the pieces
+ * (they stay on the curve for interpolation). */
+static int make_pieces(const sf_compare *c, const curve *cv, int xq, int **idx_out, piece **pc_out,
+                       int *npc)
 {
-    int *idx = malloc(sizeof(int) * (size_t)(2 * c->npts + 1));
-    piece *pc = malloc(sizeof(piece) * (size_t)(c->npts + 1));
+    int *idx = malloc(sizeof(int) * (size_t)(2 * cv->n + 1));
+    piece *pc = malloc(sizeof(piece) * (size_t)(cv->n + 1));
     if (!idx || !pc) { free(idx); free(pc); return SF_ENOMEM; }
     int ni = 0, np = 0, dir = 0;
-    for (int i = 0; i < c->npts; i++) {
-        double x = c->pv[(size_t)i * c->nq + xq];
-        if (np == 0 || c->pblock[i] != c->pblock[idx[ni - 1]]) {
+    for (int a = 0; a < cv->n; a++) {
+        double x = xval(c, cv->pt[a], xq);
+        if (np == 0 || !same_block(c, cv, a, idx[ni - 1])) {
             pc[np].start = ni;
             pc[np].n = 0;
             np++;
             dir = 0;
         } else {
-            double xl = c->pv[(size_t)idx[ni - 1] * c->nq + xq];
-            double dx = x - xl;
-            if (dx == 0.0) continue;            /* no progress in x: nothing to interpolate on */
+            double dx = x - xval(c, cv->pt[idx[ni - 1]], xq);
+            if (dx == 0.0) continue;
             int d = dx > 0 ? 1 : -1;
             if (dir != 0 && d != dir) {
-                /* turning point: a new piece that starts at it */
                 int turn = idx[ni - 1];
                 pc[np].start = ni;
                 pc[np].n = 1;
@@ -644,7 +690,7 @@ static int make_pieces(const sf_compare *c, int xq, int **idx_out, piece **pc_ou
             }
             dir = d;
         }
-        idx[ni++] = i;
+        idx[ni++] = a;
         pc[np - 1].n++;
     }
     *idx_out = idx;
@@ -653,55 +699,74 @@ static int make_pieces(const sf_compare *c, int xq, int **idx_out, piece **pc_ou
     return SF_OK;
 }
 
-static double xval(const sf_compare *c, int i, int xq) { return c->pv[(size_t)i * c->nq + xq]; }
-
-/* Bracket of x in a piece: k with x between the piece's points k and k+1,
- * or -1 when x is outside.  *exact: index of a point equal to x, or -1. */
-static int bracket(const sf_compare *c, const int *idx, const piece *pc, int xq, double x,
-                   double eps, int *exact)
+/* Where x lies on a piece: the bracketing nodes (*a, *b) with x between
+ * their abscissae (returns 1), or an exact node (*a = *b), or 0 when x is
+ * outside the piece. */
+static int locate(const sf_compare *c, const curve *cv, const int *idx, const piece *pc, int xq,
+                  double x, double eps, int *a, int *b)
 {
-    *exact = -1;
     const int *id = idx + pc->start;
     for (int k = 0; k < pc->n; k++)
-        if (fabs(xval(c, id[k], xq) - x) <= eps) { *exact = k; return k < pc->n - 1 ? k : k - 1; }
-    if (pc->n < 2) return -1;
+        if (fabs(xval(c, cv->pt[id[k]], xq) - x) <= eps) { *a = *b = id[k]; return 1; }
     for (int k = 0; k + 1 < pc->n; k++) {
-        double a = xval(c, id[k], xq), b = xval(c, id[k + 1], xq);
-        if ((x - a) * (x - b) <= 0.0) return k;
+        double xa = xval(c, cv->pt[id[k]], xq), xb = xval(c, cv->pt[id[k + 1]], xq);
+        if ((x - xa) * (x - xb) < 0.0) { *a = id[k]; *b = id[k + 1]; return 1; }
     }
-    return -1;
+    return 0;
 }
 
-/* Interpolated values of every quantity at x on a piece (bracket k). */
-static void interp_values(const sf_compare *c, const int *idx, const piece *pc, int xq, int k,
-                          int exact, double x, double *out)
+/* Lagrange weights at t of the nodes nd[0..nn-1]. */
+static void lagrange(const curve *cv, const int *nd, int nn, double t, double *w)
 {
-    const int *id = idx + pc->start;
-    if (exact >= 0) {
-        memcpy(out, c->pv + (size_t)id[exact] * c->nq, sizeof(double) * c->nq);
+    for (int i = 0; i < nn; i++) {
+        w[i] = 1.0;
+        for (int j = 0; j < nn; j++)
+            if (j != i) w[i] *= (t - cv->t[nd[j]]) / (cv->t[nd[i]] - cv->t[nd[j]]);
+    }
+}
+
+/* Values of every quantity (vals) and the state (ys, may be NULL) at x
+ * between curve nodes a < b: each is interpolated in the chord length t,
+ * cubically through a-1, a, b, b+1 where those exist in the block (also
+ * across a turning point: the curve is smooth in t there), and t is where
+ * the interpolated abscissa equals x (bisection; the data bracket it). */
+static void interp_at(const sf_compare *c, const curve *cv, int a, int b, int xq, double x,
+                      double *vals, double *ys)
+{
+    if (a == b) {
+        memcpy(vals, c->pv + (size_t)cv->pt[a] * c->nq, sizeof(double) * c->nq);
+        if (ys) memcpy(ys, c->py + (size_t)cv->pt[a] * c->ny, sizeof(double) * c->ny);
         return;
     }
-    int use[4], nu;
-    if (k >= 1 && k + 2 < pc->n) {
-        use[0] = k - 1; use[1] = k; use[2] = k + 1; use[3] = k + 2;
-        nu = 4;
-    } else {
-        use[0] = k; use[1] = k + 1;
-        nu = 2;
-    }
+    if (a > b) { int t = a; a = b; b = t; }
+    int nd[4], nn = 0;
+    if (same_block(c, cv, a - 1, a)) nd[nn++] = a - 1;
+    nd[nn++] = a;
+    nd[nn++] = b;
+    if (same_block(c, cv, b + 1, b)) nd[nn++] = b + 1;
     double w[4];
-    for (int a = 0; a < nu; a++) {
-        double xa = xval(c, id[use[a]], xq);
-        w[a] = 1.0;
-        for (int b = 0; b < nu; b++)
-            if (b != a) w[a] *= (x - xval(c, id[use[b]], xq)) / (xa - xval(c, id[use[b]], xq));
+    double lo = cv->t[a], hi = cv->t[b];
+    double flo = xval(c, cv->pt[a], xq) - x;
+    for (int it = 0; it < 200 && hi - lo > 1e-15 * (fabs(hi) + 1e-300); it++) {
+        double mid = 0.5 * (lo + hi), xm = 0.0;
+        lagrange(cv, nd, nn, mid, w);
+        for (int i = 0; i < nn; i++) xm += w[i] * xval(c, cv->pt[nd[i]], xq);
+        if ((xm - x) * flo > 0.0) { lo = mid; flo = xm - x; }
+        else hi = mid;
     }
+    lagrange(cv, nd, nn, 0.5 * (lo + hi), w);
     for (int q = 0; q < c->nq; q++) {
         double v = 0.0;
-        for (int a = 0; a < nu; a++) v += w[a] * c->pv[(size_t)id[use[a]] * c->nq + q];
-        out[q] = v;
+        for (int i = 0; i < nn; i++) v += w[i] * c->pv[(size_t)cv->pt[nd[i]] * c->nq + q];
+        vals[q] = v;
     }
-    out[xq] = x;
+    vals[xq] = x;
+    if (ys)
+        for (int k = 0; k < c->ny; k++) {
+            double v = 0.0;
+            for (int i = 0; i < nn; i++) v += w[i] * c->py[(size_t)cv->pt[nd[i]] * c->ny + k];
+            ys[k] = v;
+        }
 }
 
 int sf_compare_eval(sf_compare *c, sf_equil *eq, const sf_mpoint *probes,
@@ -712,8 +777,9 @@ int sf_compare_eval(sf_compare *c, sf_equil *eq, const sf_mpoint *probes,
     double *best = vals ? vals + c->nq : NULL;
     double *y = malloc(sizeof(double) * (size_t)(c->ny + 1));
     double *guess = malloc(sizeof(double) * (size_t)(c->ny + 1));
-    if (!vals || !y || !guess) {
-        free(vals); free(y); free(guess);
+    curve cv = {0, NULL, NULL};
+    if (!vals || !y || !guess || make_curve(c, eq, &cv)) {
+        free(vals); free(y); free(guess); free(cv.pt); free(cv.t);
         return sf_fail(err, SF_ENOMEM, "out of memory");
     }
     int rc = SF_OK;
@@ -721,7 +787,7 @@ int sf_compare_eval(sf_compare *c, sf_equil *eq, const sf_mpoint *probes,
         cmp_ref *r = &c->refs[ri];
         int *idx = NULL, npc = 0;
         piece *pc = NULL;
-        if (c->npts > 0 && make_pieces(c, r->xq, &idx, &pc, &npc)) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); break; }
+        if (make_pieces(c, &cv, r->xq, &idx, &pc, &npc)) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); break; }
         double xlo = INFINITY, xhi = -INFINITY;
         for (int i = 0; i < c->npts; i++) {
             xlo = fmin(xlo, xval(c, i, r->xq));
@@ -736,15 +802,13 @@ int sf_compare_eval(sf_compare *c, sf_equil *eq, const sf_mpoint *probes,
             double x = r->xscale * rv[r->xcol];
             r->x[row] = x;
             /* the piece: first at or after the previous row's, closest in value */
-            int bp = -1, bk = -1, bex = -1;
+            int bp = -1, ba = -1, bb = -1;
             double bscore = INFINITY;
             for (int pass = 0; pass < 2 && bp < 0; pass++)
                 for (int j = pass ? 0 : lastpc; j < npc; j++) {
-                    int ex, k = bracket(c, idx, &pc[j], r->xq, x, eps, &ex);
-                    if (k < 0 && ex < 0) continue;
-                    if (pc[j].n < 2) k = -1;
-                    if (k < 0 && ex < 0) continue;
-                    interp_values(c, idx, &pc[j], r->xq, k, ex, x, vals);
+                    int na, nb;
+                    if (!locate(c, &cv, idx, &pc[j], r->xq, x, eps, &na, &nb)) continue;
+                    interp_at(c, &cv, na, nb, r->xq, x, vals, NULL);
                     double score = 0.0;
                     for (int cc = 0; cc < r->ncols; cc++) {
                         const cmp_col *col = &r->cols[cc];
@@ -753,7 +817,7 @@ int sf_compare_eval(sf_compare *c, sf_equil *eq, const sf_mpoint *probes,
                     }
                     if (score < bscore) {
                         bscore = score;
-                        bp = j; bk = k; bex = ex;
+                        bp = j; ba = na; bb = nb;
                         memcpy(best, vals, sizeof(double) * c->nq);
                     }
                 }
@@ -763,19 +827,15 @@ int sf_compare_eval(sf_compare *c, sf_equil *eq, const sf_mpoint *probes,
                 continue;
             }
             lastpc = bp;
-            char method = bex >= 0 ? 'p' : 'i';
+            char method = ba == bb ? 'p' : 'i';
             if (method == 'i' && solvable) {
-                /* exact solve at p = x from the linearly interpolated state */
-                const int *id = idx + pc[bp].start;
-                int a = id[bk], b = id[bk + 1];
-                double xa = xval(c, a, r->xq), xb = xval(c, b, r->xq);
-                double t = (x - xa) / (xb - xa);
+                /* solve at exactly p = x from the interpolated state; accept
+                 * it only if it stays next to that stretch of the path */
+                interp_at(c, &cv, ba, bb, r->xq, x, vals, guess);
                 double dab = 0.0;
-                for (int i = 0; i < c->ny; i++) {
-                    double ya = c->py[(size_t)a * c->ny + i], yb = c->py[(size_t)b * c->ny + i];
-                    guess[i] = ya + t * (yb - ya);
-                    dab = fmax(dab, fabs(yb - ya) * eq->yscale[i]);
-                }
+                for (int i = 0; i < c->ny; i++)
+                    dab = fmax(dab, fabs(c->py[(size_t)cv.pt[bb] * c->ny + i] -
+                                         c->py[(size_t)cv.pt[ba] * c->ny + i]) * eq->yscale[i]);
                 memcpy(y, guess, sizeof(double) * c->ny);
                 if (cont_solve_fixed(cs, y, x) == CONT_OK) {
                     double dist = 0.0;
@@ -784,7 +844,7 @@ int sf_compare_eval(sf_compare *c, sf_equil *eq, const sf_mpoint *probes,
                         if (!isfinite(y[i])) finite = 0;
                         dist = fmax(dist, fabs(y[i] - guess[i]) * eq->yscale[i]);
                     }
-                    if (finite && dist <= 2.0 * dab + 1e-8) {
+                    if (finite && dist <= dab + 1e-8) {
                         quantities(c, eq, probes, y, x, best);
                         method = 's';
                     }
@@ -833,6 +893,8 @@ int sf_compare_eval(sf_compare *c, sf_equil *eq, const sf_mpoint *probes,
     free(vals);
     free(y);
     free(guess);
+    free(cv.pt);
+    free(cv.t);
     return rc;
 }
 
@@ -914,7 +976,7 @@ static int fill_points(void *ctx, void *vf)
                 double e = col->measure == M_ABSOLUTE ? fabs(d)
                          : col->measure == M_SCALED ? fabs(d) / col->refmax
                          : (ref != 0.0 && fabs(ref) > 1e-9 * col->refmax) ? fabs(d) / fabs(ref) : 0.0;
-                fprintf(f, "%s\t%s\t%s\t%d\t%.12g\t%.12g\t%.12g\t%.6e\t%.6e\t%s\n", r->name, col->column,
+                fprintf(f, "%s\t%s\t%s\t%d\t%.15g\t%.15g\t%.15g\t%.6e\t%.6e\t%s\n", r->name, col->column,
                         c->qname[col->q], r->line[row], fin(r->x[row]), fin(ref), fin(col->comp[row]),
                         fin(d), fin(e), m == 'p' ? "point" : m == 's' ? "solved" : "interpolated");
             }
@@ -933,6 +995,16 @@ int sf_compare_write(const sf_compare *c, const char *dir, const char *header, s
     snprintf(path, sizeof path, "%s/compare-points.tsv", dir);
     if (sf_write_atomic(path, fill_points, (void *)ctx, err)) return err->code;
     return SF_OK;
+}
+
+void sf_compare_print_files(const sf_compare *c, FILE *f)
+{
+    if (!c) return;
+    for (int i = 0; i < c->nref; i++) {
+        const cmp_ref *r = &c->refs[i];
+        fprintf(f, "reference %s: %s (%d rows, %d columns compared; %.60s)\n", r->name, r->path,
+                r->nrow, r->ncols, r->kind);
+    }
 }
 
 void sf_compare_print(const sf_compare *c, FILE *f)

@@ -24,23 +24,26 @@
  * the abscissa turns back, e.g. at a limit point when the abscissa is the
  * load, and at every new branch block); consecutive pieces share their
  * turning point.  A reference row is compared on a piece that contains its
- * abscissa: among such pieces, the first one at or after the piece of the
- * previous row (rows are taken in file order, so a reference that follows
- * the path in the same direction is matched in order), choosing the piece
- * whose values are closest to the row's (sum over compared columns of
- * |difference| / max |reference column|) when several qualify.  Rows whose
+ * abscissa: among the pieces at or after the piece of the previous row
+ * (rows are taken in file order, so a reference that follows the path in
+ * the same direction is matched in order; if none qualifies, among all),
+ * the one whose values are closest to the row's (sum over compared columns
+ * of |difference| / max |reference column|).  Rows whose
  * abscissa lies on no piece are counted as `outside` and not compared.
  * When the abscissa is the continuation parameter p (or `load` while p is
- * the load factor), the equilibrium is solved at exactly that p (Newton at
- * fixed p from the piece's interpolated state, cont_solve_fixed), so the
+ * the load factor) and references[].solve is true, the equilibrium is
+ * solved at exactly that p (Newton at fixed p from the piece's
+ * interpolated state, cont_solve_fixed), so the
  * comparison carries no interpolation error; the solve is accepted only if
  * it stays next to that piece (else the interpolated values are used).
- * Otherwise, and as that fallback, values are interpolated along the piece:
- * cubic Lagrange through four points of the piece where the bracketing
- * interval has a neighbour on both sides, linear in the end intervals of a
- * piece (next to a turning point, where the quantity is not a smooth
- * function of the abscissa).  A row whose abscissa equals a computed point
- * takes that point's values.
+ * Otherwise (references[].solve = false, another abscissa, or as that
+ * fallback) values are interpolated along the path in its chord length t
+ * (the distance between consecutive points in (scaled state, p), a
+ * discrete arclength in which every quantity is smooth, also through a
+ * limit point): cubic Lagrange through the two bracketing points and their
+ * neighbours on the same branch, at the t where the interpolated abscissa
+ * equals the row's (found by bisection).  A row whose abscissa equals a
+ * computed point takes that point's values.
  */
 #ifndef SF_COMPARE_H
 #define SF_COMPARE_H
@@ -80,6 +83,9 @@ int sf_compare_eval(sf_compare *c, sf_equil *eq, const sf_mpoint *probes,
  * comment lines put first in both. */
 int sf_compare_write(const sf_compare *c, const char *dir, const char *header,
                      sf_error *err);
+
+/* One line per reference file: name, where it was found, rows, kind. */
+void sf_compare_print_files(const sf_compare *c, FILE *f);
 
 /* One line per compared column (for the program's summary). */
 void sf_compare_print(const sf_compare *c, FILE *f);

@@ -24,3 +24,4 @@ TESTS += tests/test_vtk.sh
 EXTRA_DIST += tests/test_vtk.sh
 include tests/equilibrium.mk
 EXTRA_DIST += tests/sf_test.h
+include tests/accuracy.mk
