@@ -26,6 +26,9 @@
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 bin=${SF_BUILDDIR:-.}/src/smoothfold
+# the project's reference data (../shared/data), also when the source tree
+# is elsewhere (SF_SHARED, as the other tests)
+SMOOTHFOLD_DATA="${SMOOTHFOLD_DATA:+$SMOOTHFOLD_DATA:}${SF_SHARED:-$src/../shared}/data"; export SMOOTHFOLD_DATA
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 i=0

@@ -18,7 +18,7 @@ fold1=$src/studies/fold1.cfg
 i=0
 ok() { i=$((i + 1)); echo "ok $i - $*"; }
 notok() { i=$((i + 1)); echo "not ok $i - $*"; }
-echo "1..20"
+echo "1..22"
 
 # ref FILE [COLUMN] [QUANTITY]: a references value for --set
 ref() {
@@ -62,6 +62,22 @@ case "$rc:$out" in
     1:*"nan.csv:6: column 2 (probe1_ux): not a finite number"*) ok "check reports a bad reference file";;
     *) notok "check with a bad reference file: status $rc, '$out'";;
 esac
+
+# Finding a file: by $SMOOTHFOLD_DATA, and in shared/data above the
+# study's directory (the project's data beside the repository)
+mkdir -p "$tmp/data"
+cp "$d/good.csv" "$tmp/data/mydata.csv"
+out=$(SMOOTHFOLD_DATA="$tmp/nowhere:$tmp/data" "$bin" run "$fold1" -q -o "$tmp/env" --set output.shapes=0 --set "$(ref mydata.csv)" 2>&1); rc=$?
+grep -q "^# reference r: $tmp/data/mydata.csv" "$tmp/env/compare.tsv" 2>/dev/null && [ $rc -eq 0 ] &&
+    ok "a reference found through \$SMOOTHFOLD_DATA" || notok "SMOOTHFOLD_DATA: status $rc, $out"
+if [ -f "$src/../shared/data/fold1_elastica.csv" ]; then
+    want=$(cd "$src/../shared/data" && pwd -P)/fold1_elastica.csv
+    out=$(env -u SMOOTHFOLD_DATA "$bin" run "$fold1" -q -o "$tmp/up" --set output.shapes=0 2>&1); rc=$?
+    grep -q "^# reference elastica: $want" "$tmp/up/compare.tsv" 2>/dev/null && [ $rc -eq 0 ] &&
+        ok "studies/fold1.cfg finds fold1_elastica.csv in ../shared/data above it" || notok "search in shared/data: status $rc, $out"
+else
+    ok "# SKIP no ../shared/data beside the source tree"
+fi
 
 # A tolerance exceeded: fold1 (K = 0, the circular arc) is 1.8% off the
 # elastica at 4 N; a 1% tolerance on the relative error must fail the run

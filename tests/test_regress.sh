@@ -31,6 +31,9 @@ src=${SF_SRCDIR:-$(dirname "$0")/..}
 bin=${SF_BUILDDIR:-.}/src/smoothfold
 rtol=${SF_REGRESS_RTOL:-1e-8}
 studies="strip3 fold1 waterbomb2 square4 square4-stiff square4-narrow square4-corner square4-irregular fold1-buckle snap1"
+# the project's reference data (../shared/data), also when the source tree
+# is elsewhere (SF_SHARED, as the other tests)
+SMOOTHFOLD_DATA="${SMOOTHFOLD_DATA:+$SMOOTHFOLD_DATA:}${SF_SHARED:-$src/../shared}/data"; export SMOOTHFOLD_DATA
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 n=0; for s in $studies; do n=$((n + 1)); done
