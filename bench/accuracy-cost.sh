@@ -17,8 +17,8 @@
 # step knob the path is judged as computed instead (values interpolated
 # between its points, references[].solve = false), since a solve at the
 # reference load would hide the step.  Time: wall time of a whole
-# `smoothfold run` process (start-up and output included, shapes off, no
-# comparison), the best of N runs (the machine is shared: the minimum is
+# `smoothfold run` process (start-up and output included; shapes, stability
+# analysis and comparison off: they are not what the knobs trade), the best of N runs (the machine is shared: the minimum is
 # the least disturbed); the table adds the path's own solver time (sum of
 # stats.csv wall_s, also best of N).
 # Writes docs/accuracy-cost.md (tables) and docs/img/accuracy-cost.png
@@ -63,7 +63,7 @@ measure() {
     times=""; ptimes=""; i=0
     while [ $i -lt $n ]; do
         t0=$(date +%s%N)
-        if ! "$bin" run "$study" -q -o "$tmp/run" --set output.shapes=0 --set 'references=()' "$@" >/dev/null 2>"$tmp/err"; then
+        if ! "$bin" run "$study" -q -o "$tmp/run" --set output.shapes=0 --set analysis.stability=false --set 'references=()' "$@" >/dev/null 2>"$tmp/err"; then
             echo "  $c $knob=$val: failed: $(cat "$tmp/err")" >&2
             printf '| %s | %s | failed: %s | | | | |%s\n' "$knob" "$val" "$(sed 's/.*: \(cannot start[^(]*\).*/\1/; s/|/ /g' "$tmp/err" | head -1)" "$([ "$c" = strip3 ] && echo " |")" >> "$tmp/$c.md"
             return 0
@@ -77,7 +77,7 @@ measure() {
     pus=$(echo $ptimes | tr ' ' '\n' | sort -n | head -1)
     pts=$(awk -F'\t' '/^#/ || NF == 0 { next } !h { h = 1; next } { k++ } END { print k }' "$tmp/run/branch.tsv")
     newton=$(awk -F'\t' '/^#/ || NF == 0 { next } !h { for (k = 1; k <= NF; k++) if ($k == "newton") c = k; h = 1; next } { t += $c } END { print t }' "$tmp/run/branch.tsv")
-    "$bin" run "$study" -q -o "$tmp/cmp" --set output.shapes=0 "$@" --set "$(refset "$c" $solve)" >/dev/null 2>&1 || true
+    "$bin" run "$study" -q -o "$tmp/cmp" --set output.shapes=0 --set analysis.stability=false "$@" --set "$(refset "$c" $solve)" >/dev/null 2>&1 || true
     e=$(maxerr "$tmp/cmp" ref)
     es=""
     [ "$c" = strip3 ] && es=$(maxerr "$tmp/cmp" shell)
@@ -126,7 +126,7 @@ out=$src/docs/accuracy-cost.md
     echo "(K = 8, Newton tolerance 1e-12, at 7 loads of the path and its end); strip3"
     echo "also the 3-D shell finite elements (column *vs shell FE*). **time**: wall"
     echo "time of the whole \`smoothfold run\` process (start-up, path, output; shapes"
-    echo "off), best of $n runs; **path**: the continuation's own time (stats.csv). For scale: the strip3 shell FE reference took 391 s, the 2-D plane-strain"
+    echo "and the stability analysis off), best of $n runs; **path**: the continuation's own time (stats.csv). For scale: the strip3 shell FE reference took 391 s, the 2-D plane-strain"
     echo "FE 220 s (one core, CalculiX; ../shared/data/README.md), the paper's MATLAB code"
     echo "7.2 s for the strip3 path (Octave)."
     for c in fold1 strip3 square4; do

@@ -1,8 +1,9 @@
 #!/bin/sh
 # bench/studies.sh - whole-process wall time of `smoothfold run` for every
-# study of CASES.md (median of N runs, shapes off so disk I/O is not timed),
-# with points and Newton iterations (reference comparisons off: they add
-# solves at the reference loads).  Prints a Markdown table.
+# study of CASES.md and the stability studies (median of N runs, shapes off
+# so disk I/O is not timed; stability analysis on, as by default; reference
+# comparisons off: they add solves at the reference loads), with points
+# (all branches) and Newton iterations.  Prints a Markdown table.
 # usage: bench/studies.sh [BUILDDIR] [N]      (not part of make check)
 src=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$src}
@@ -12,7 +13,8 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 echo "| study | constraints | unknowns | points | Newton iterations | wall time (median of $n) |"
 echo "|---|---|---|---|---|---|"
-for s in strip3 fold1 waterbomb2 square4 square4-stiff square4-narrow square4-corner square4-irregular; do
+for s in strip3 fold1 waterbomb2 square4 square4-stiff square4-narrow square4-corner square4-irregular \
+         fold1-buckle snap1 square4-inplane; do
     cfg=$src/studies/$s.cfg
     times=""
     i=0
@@ -24,7 +26,7 @@ for s in strip3 fold1 waterbomb2 square4 square4-stiff square4-narrow square4-co
         i=$((i + 1))
     done
     med=$(echo $times | tr ' ' '\n' | sort -g | awk '{a[NR]=$1} END{print a[int((NR+1)/2)]}')
-    pts=$(grep -v '^#' "$out/$s/branch.tsv" | tail -n +2 | wc -l)
+    pts=$(grep -v '^#' "$out/$s/branch.tsv" | awk -F'\t' 'NF > 3' | tail -n +2 | wc -l)
     newton=$(grep -v '^#' "$out/$s/branch.tsv" | awk -F'\t' 'NR==1{for(i=1;i<=NF;i++) if($i=="newton") c=i; next} {t+=$c} END{print t}')
     cons=$(sed -n 's/^ *constraints *= *"\([a-z]*\)".*/\1/p' "$out/$s/study.cfg" | head -1)
     unk=$("$bin" check "$cfg" | sed -n 's/.*; \([0-9]*\) generalised coordinates.*/\1/p')

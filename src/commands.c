@@ -183,24 +183,54 @@ static int run_gnuplot(const char *script, const char *dir, sf_error *err)
     return SF_OK;
 }
 
-int sf_cmd_plot(const char *dir, sf_error *err)
+/* Run plots/NAME for each name of scripts on dir. */
+static int run_scripts(const char *dir, const char *const *scripts, int n, sf_error *err)
 {
-    char branch[1200], pdir[1024], script[1200];
+    char pdir[1024], script[1200];
     struct stat st;
-    snprintf(branch, sizeof branch, "%s/branch.tsv", dir);
-    if (stat(branch, &st) != 0)
-        return sf_fail(err, SF_EIO, "plot: %s: no such file (run `smoothfold run STUDY.cfg -o %s` "
-                       "first)", branch, dir);
     const char *env = getenv("SMOOTHFOLD_PLOTS");
     snprintf(pdir, sizeof pdir, "%s", env && env[0] ? env : SF_SRCDIR "/plots");
-    const char *scripts[] = {"path.gp", "angles.gp"};
-    for (size_t i = 0; i < sizeof scripts / sizeof *scripts; i++) {
+    for (int i = 0; i < n; i++) {
         snprintf(script, sizeof script, "%s/%s", pdir, scripts[i]);
         if (stat(script, &st) != 0)
             return sf_fail(err, SF_EIO, "plot: %s not found (set SMOOTHFOLD_PLOTS to the plots/ "
                            "directory)", script);
         if (run_gnuplot(script, dir, err)) return err->code;
     }
-    printf("wrote %s/path.png, path.pdf, angles.png, angles.pdf\n", dir);
+    return SF_OK;
+}
+
+int sf_plot_trajectory(const char *dir, sf_error *err)
+{
+    const char *scripts[] = {"trajectory.gp"};
+    return run_scripts(dir, scripts, 1, err);
+}
+
+int sf_cmd_plot(const char *dir, sf_error *err)
+{
+    char branch[1200], traj[1200];
+    struct stat st;
+    snprintf(branch, sizeof branch, "%s/branch.tsv", dir);
+    snprintf(traj, sizeof traj, "%s/trajectory.tsv", dir);
+    int have_branch = stat(branch, &st) == 0, have_traj = stat(traj, &st) == 0;
+    if (!have_branch && !have_traj)
+        return sf_fail(err, SF_EIO, "plot: %s: no such file (run `smoothfold run STUDY.cfg -o %s` "
+                       "first)", branch, dir);
+    if (have_branch) {
+        const char *scripts[] = {"stability.gp", "eigenvalues.gp", "angles.gp"};
+        if (run_scripts(dir, scripts, 3, err)) return err->code;
+        printf("wrote in %s:", dir);
+        const char *outs[] = {"stability", "eigenvalues", "angles"};
+        for (size_t i = 0; i < sizeof outs / sizeof *outs; i++) {
+            char f[1200];
+            snprintf(f, sizeof f, "%s/%s.png", dir, outs[i]);
+            if (stat(f, &st) == 0) printf(" %s.png|pdf", outs[i]);
+        }
+        printf("\n");
+    }
+    if (have_traj) {
+        if (sf_plot_trajectory(dir, err)) return err->code;
+        printf("wrote %s/trajectory.png, trajectory.pdf\n", dir);
+    }
     return SF_OK;
 }

@@ -19,5 +19,7 @@ int sf_cmd_shape(const sf_options *o, sf_error *err);
 int sf_cmd_run(const sf_options *o, sf_error *err);
 /* Run the gnuplot scripts of plots/ on a run directory. */
 int sf_cmd_plot(const char *dir, sf_error *err);
+/* plots/trajectory.gp on a dynamics run directory (prints nothing). */
+int sf_plot_trajectory(const char *dir, sf_error *err);
 
 #endif

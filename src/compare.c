@@ -801,26 +801,28 @@ int sf_compare_eval(sf_compare *c, sf_equil *eq, const sf_mpoint *probes,
             const double *rv = r->v + (size_t)row * r->ncol;
             double x = r->xscale * rv[r->xcol];
             r->x[row] = x;
-            /* the piece: first at or after the previous row's, closest in value */
+            /* the piece closest in value; on a tie (the path passes the
+             * same state twice, or pieces meet at a turning point) the
+             * first one at or after the previous row's piece */
             int bp = -1, ba = -1, bb = -1;
             double bscore = INFINITY;
-            for (int pass = 0; pass < 2 && bp < 0; pass++)
-                for (int j = pass ? 0 : lastpc; j < npc; j++) {
-                    int na, nb;
-                    if (!locate(c, &cv, idx, &pc[j], r->xq, x, eps, &na, &nb)) continue;
-                    interp_at(c, &cv, na, nb, r->xq, x, vals, NULL);
-                    double score = 0.0;
-                    for (int cc = 0; cc < r->ncols; cc++) {
-                        const cmp_col *col = &r->cols[cc];
-                        double ref = col->scale * rv[col->ccol];
-                        score += fabs(vals[col->q] - ref) / (col->refmax > 0 ? col->refmax : 1.0);
-                    }
-                    if (score < bscore) {
-                        bscore = score;
-                        bp = j; ba = na; bb = nb;
-                        memcpy(best, vals, sizeof(double) * c->nq);
-                    }
+            for (int jj = 0; jj < npc; jj++) {
+                int j = (lastpc + jj) % npc;
+                int na, nb;
+                if (!locate(c, &cv, idx, &pc[j], r->xq, x, eps, &na, &nb)) continue;
+                interp_at(c, &cv, na, nb, r->xq, x, vals, NULL);
+                double score = 0.0;
+                for (int cc = 0; cc < r->ncols; cc++) {
+                    const cmp_col *col = &r->cols[cc];
+                    double ref = col->scale * rv[col->ccol];
+                    score += fabs(vals[col->q] - ref) / (col->refmax > 0 ? col->refmax : 1.0);
                 }
+                if (bp < 0 || score < bscore - 1e-12 * (1.0 + bscore)) {
+                    bscore = score;
+                    bp = j; ba = na; bb = nb;
+                    memcpy(best, vals, sizeof(double) * c->nq);
+                }
+            }
             if (bp < 0) {
                 r->method[row] = 'o';
                 r->noutside++;

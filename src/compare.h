@@ -23,12 +23,13 @@
  * are strictly monotone in the abscissa quantity (a new piece starts where
  * the abscissa turns back, e.g. at a limit point when the abscissa is the
  * load, and at every new branch block); consecutive pieces share their
- * turning point.  A reference row is compared on a piece that contains its
- * abscissa: among the pieces at or after the piece of the previous row
- * (rows are taken in file order, so a reference that follows the path in
- * the same direction is matched in order; if none qualifies, among all),
- * the one whose values are closest to the row's (sum over compared columns
- * of |difference| / max |reference column|).  Rows whose
+ * turning point.  A reference row is compared on the piece, among those
+ * that contain its abscissa, whose values are closest to the row's (sum
+ * over compared columns of |difference| / max |reference column|); on a
+ * tie (pieces that meet at a turning point, a path that passes the same
+ * state twice) the first piece at or after the previous row's wins, rows
+ * being taken in file order, so a reference that follows the path is
+ * matched in order.  Rows whose
  * abscissa lies on no piece are counted as `outside` and not compared.
  * When the abscissa is the continuation parameter p (or `load` while p is
  * the load factor) and references[].solve is true, the equilibrium is

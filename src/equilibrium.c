@@ -177,6 +177,7 @@ void sf_equil_set_param(sf_equil *q, double p)
         q->par.rest[i] = rest;
         q->par.drest[i] = drest;
     }
+    if (q->param_hook) q->param_hook(q, p, q->param_hook_data);
 }
 
 static int finite_all(const double *v, int n)
@@ -281,6 +282,36 @@ int sf_equil_jacobian(const double *y, double p, SUNMatrix Jy, double *Fp, void 
         for (int i = 0; i < n; i++)
             if (!isfinite(A[(size_t)j * ld + i])) return 1;
     return 0;
+}
+
+int sf_equil_kkt(sf_equil *q, const double *y, double p, double *HL, double *C)
+{
+    const sf_model *m = q->m;
+    int nq = q->nq;
+    if (!finite_all(y, q->n) || !isfinite(p)) return 1;
+    sf_equil_set_param(q, p);
+    sf_kin_eval(m, y, 2, &q->k);
+    memset(HL, 0, sizeof(double) * nq * nq);
+    sf_energy_eval(&q->e, &q->k, &q->par, NULL, HL, nq, NULL);
+    const double *lam = y + nq;
+    if (q->nloop) {
+        sf_constraints(m, &q->k, q->g, q->J, lam, HL, nq);
+        memcpy(C, q->J, sizeof(double) * q->nloop * nq);
+    }
+    for (int r = 0; r < q->nsup; r++) {
+        double f[3] = {0, 0, 0};
+        f[q->rowc[r]] = lam[q->nloop + r];
+        sf_point_hess_add(m, &q->k, &q->rowpt[r], f, HL, nq);
+        row_value(q, r, p, 1);
+        memcpy(C + (size_t)(q->nloop + r) * nq, q->dx + q->rowc[r] * nq, sizeof(double) * nq);
+    }
+    /* the Hessian of a sum of smooth terms is symmetric; remove rounding */
+    for (int i = 0; i < nq; i++)
+        for (int j = 0; j < i; j++) {
+            double v = 0.5 * (HL[(size_t)i * nq + j] + HL[(size_t)j * nq + i]);
+            HL[(size_t)i * nq + j] = HL[(size_t)j * nq + i] = v;
+        }
+    return finite_all(HL, nq * nq) && finite_all(C, q->ncon * nq) ? 0 : 1;
 }
 
 void sf_equil_report(sf_equil *q, const double *y, double p, double *Pi,

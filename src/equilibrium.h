@@ -55,6 +55,11 @@ typedef struct sf_equil {
     int sparse;
     SUNMatrix Jd;
     unsigned char *pattern;
+    /* Optional: called at the end of sf_equil_set_param (so also inside
+     * the residual, Jacobian and report), e.g. by the dynamics module to
+     * apply the time histories of other actuation groups. */
+    void (*param_hook)(struct sf_equil *q, double p, void *data);
+    void *param_hook_data;
 } sf_equil;
 
 int sf_equil_init(sf_equil *q, const sf_model *m, int param, int group,
@@ -90,6 +95,13 @@ void sf_equil_set_param(sf_equil *q, double p);
 /* Callbacks for cont_problem (user = sf_equil *). */
 int sf_equil_residual(const double *y, double p, double *F, void *user);
 int sf_equil_jacobian(const double *y, double p, SUNMatrix Jy, double *Fp, void *user);
+
+/* The blocks of the KKT matrix at (y, p), without the regularisation:
+ * HL (nq x nq, row-major) = hess Pi + sum_c lambda_c hess g_c (symmetric),
+ * C (ncon x nq, row-major) = the constraint rows (loop rows in exact mode,
+ * then supports and the displacement row).  For the stability analysis.
+ * Returns nonzero on a non-finite value. */
+int sf_equil_kkt(sf_equil *q, const double *y, double p, double *HL, double *C);
 
 /* Quantities of a solved point: energy Pi, max |loop residual| (rotation
  * rows and translation rows [m] separately). */

@@ -16,7 +16,9 @@
 #include "compare.h"
 #include "cont.h"
 #include "equilibrium.h"
+#include "run_dynamics.h"
 #include "scene.h"
+#include "stability.h"
 #include "study.h"
 #include "vtk.h"
 
@@ -62,6 +64,18 @@ static int fill_sbuf(void *ctx, void *f)
 /* Finite numbers only: a non-finite value never reaches an output file. */
 static double fin(double v) { return isfinite(v) ? v : 0.0; }
 
+/* A branch point met along a branch, for switching. */
+typedef struct run_bp {
+    double *y, *ty;
+    double p, tp;
+    int depth;            /* depth of the branch it was found on */
+    int branch;           /* that branch */
+    long point;           /* its row in branch.tsv */
+    int switched;         /* 1 once the branches through it were started */
+} run_bp;
+
+#define RUN_MAX_BRANCHES 64
+
 typedef struct run_ctx {
     sf_scene *sc;
     sf_equil eq;
@@ -69,17 +83,27 @@ typedef struct run_ctx {
     sf_error *err;
     char dir[1024];
     sf_mpoint *probes;
-    sbuf branch, stats, special, header;
+    sbuf rows, stats, special, header;
     sf_pvd pvd;
     int nshapes;
-    double p_start, p_end, next_shape, shape_dp;
+    double p_start, p_end, last_shape_p, shape_dp;
+    int branch_first;     /* the next point starts a branch */
     long npoints;
     int failed;
     double s_offset;      /* arclength before the engine's first point */
     cont_solver *solver;
+    /* stability */
+    int do_stab, nev;
+    sf_stab stab;
+    long neig_method[3];  /* points analysed by each SF_EIG_* method */
+    /* branches: the one being followed, and the branch points still to
+     * switch at (breadth first, up to depth analysis.branch_depth) */
+    int branch, nbranches, depth, max_depth;
+    run_bp *bp;
+    int nbp, capbp, nextbp;
+    sbuf bnotes;
     sf_compare *cmp;      /* reference data of the study (compare.h), or NULL */
-    int block, compared;  /* branch block of the points; comparison done */
-    long last_index;
+    int compared;         /* comparison done */
     cont_stats tot;       /* solver totals of the path (before the comparison) */
 } run_ctx;
 
@@ -117,6 +141,76 @@ static void probe_disp(run_ctx *r, const double *y, int i, double u[3])
     (void)y;
 }
 
+/* Note on a branch, for the headers of branch.tsv and on the terminal. */
+static void branch_note(run_ctx *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void branch_note(run_ctx *r, const char *fmt, ...)
+{
+    char line[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    sb_printf(&r->bnotes, "# %s\n", line);
+    if (!r->opt->quiet) fprintf(stderr, "%s\n", line);
+}
+
+/* Remember a branch point for switching, unless it is one already known
+ * (a branch may run into a point it started from). */
+static int remember_bp(run_ctx *r, const cont_point *pt)
+{
+    sf_equil *eq = &r->eq;
+    int n = eq->n;
+    if (!pt->ty || r->depth >= r->max_depth) return 0;
+    for (int i = 0; i < r->nbp; i++) {
+        const run_bp *b = &r->bp[i];
+        double d = fabs(b->p - pt->p) / (1.0 + fabs(pt->p));
+        for (int j = 0; j < eq->nq; j++) d = fmax(d, fabs(b->y[j] - pt->y[j]) / (1.0 + fabs(pt->y[j])));
+        if (d < 1e-6) return 0;
+    }
+    if (r->nbp == r->capbp) {
+        int cap = r->capbp ? 2 * r->capbp : 8;
+        run_bp *nb = realloc(r->bp, (size_t)cap * sizeof *nb);
+        if (!nb) return sf_fail(r->err, SF_ENOMEM, "out of memory");
+        r->bp = nb;
+        r->capbp = cap;
+    }
+    run_bp *b = &r->bp[r->nbp];
+    memset(b, 0, sizeof *b);
+    b->y = malloc(sizeof(double) * (size_t)n);
+    b->ty = malloc(sizeof(double) * (size_t)n);
+    if (!b->y || !b->ty) {
+        free(b->y);
+        free(b->ty);
+        return sf_fail(r->err, SF_ENOMEM, "out of memory");
+    }
+    memcpy(b->y, pt->y, sizeof(double) * (size_t)n);
+    memcpy(b->ty, pt->ty, sizeof(double) * (size_t)n);
+    b->p = pt->p;
+    b->tp = pt->tp;
+    b->depth = r->depth;
+    b->branch = r->branch;
+    b->point = r->npoints;
+    r->nbp++;
+    return 0;
+}
+
+/* Stability columns (stable, morse, eig1..eigN) of a row; empty fields
+ * where there is no value (stability off, or fewer eigenvalues). */
+static void stab_fields(run_ctx *r, sbuf *b)
+{
+    const sf_stab_result *R = &r->stab.res;
+    if (!r->do_stab) {
+        sb_printf(b, "\t\t");
+        for (int i = 0; i < r->nev; i++) sb_printf(b, "\t");
+        return;
+    }
+    sb_printf(b, "\t%d\t%d", R->stable, R->morse);
+    for (int i = 0; i < r->nev; i++) {
+        if (i < R->neig && isfinite(R->eig[i])) sb_printf(b, "\t%.13g", R->eig[i]);
+        else sb_printf(b, "\t");
+    }
+}
+
 static int on_point(const cont_point *pt, void *data)
 {
     run_ctx *r = data;
@@ -124,11 +218,19 @@ static int on_point(const cont_point *pt, void *data)
     const sf_model *m = eq->m;
     const sf_study *s = m->study;
     double Pi, rr, rt;
+    if (r->do_stab) {
+        if (sf_stab_eval(&r->stab, eq, pt->y, pt->p, r->err)) {
+            r->failed = 1;
+            return 1;
+        }
+        r->neig_method[r->stab.res.method]++;
+    }
     sf_equil_report(eq, pt->y, pt->p, &Pi, &rr, &rt);
     double load = eq->param == SF_PARAM_LOAD ? pt->p : eq->load;
-    sbuf *b = &r->branch;
+    sbuf *b = &r->rows;
     double sarc = pt->s + r->s_offset;
-    sb_printf(b, "%ld\t%.12g\t%.12g\t%.12g", r->npoints, fin(sarc), fin(pt->p), fin(load));
+    sb_printf(b, "%ld\t%d\t%.12g\t%.12g\t%.12g", r->npoints, r->branch, fin(sarc), fin(pt->p),
+              fin(load));
     double u0[3] = {0, 0, 0};
     for (int i = 0; i < s->nprobes; i++) {
         double u[3];
@@ -136,30 +238,44 @@ static int on_point(const cont_point *pt, void *data)
         if (i == 0) memcpy(u0, u, sizeof u);
         sb_printf(b, "\t%.12g\t%.12g\t%.12g", fin(u[0]), fin(u[1]), fin(u[2]));
     }
-    sb_printf(b, "\t%.12g\t%.3g\t%.3g\t%.3g\t%d\t%s", fin(Pi), fin(fmax(rr, rt)), fin(rr), fin(rt),
-              pt->newton_iters, pt->label[0] ? pt->label : "-");
+    sb_printf(b, "\t%.12g\t%.3g\t%.3g\t%.3g\t%d", fin(Pi), fin(fmax(rr, rt)), fin(rr), fin(rt),
+              pt->newton_iters);
+    stab_fields(r, b);
+    sb_printf(b, "\t%s", pt->label);
     for (int i = 0; i < m->nfolds; i++) sb_printf(b, "\t%.12g", fin(pt->y[m->qoff[i]]));
     sb_printf(b, "\n");
     cont_stats last;
     memset(&last, 0, sizeof last);
     if (r->solver) cont_get_stats(r->solver, &last, NULL);
-    sb_printf(&r->stats, "%ld,%.6g,%.6g,%d,%ld,%ld,%ld,%ld,%.6g\n", r->npoints, fin(pt->p),
-              fin(pt->ds), pt->newton_iters, last.nres, last.njac, last.retries, last.nlocate,
-              fin(last.wall));
-    if (pt->label[0] && strcmp(pt->label, "EP") != 0) {
-        sb_printf(&r->special, "%ld\t%s\t%.12g\t%.12g", r->npoints, pt->label, fin(pt->p), fin(sarc));
+    sb_printf(&r->stats, "%ld,%d,%.6g,%.6g,%d,%ld,%ld,%ld,%ld,%.6g\n", r->npoints, r->branch,
+              fin(pt->p), fin(pt->ds), pt->newton_iters, last.nres, last.njac, last.retries,
+              last.nlocate, fin(last.wall));
+    int special = pt->label[0] && strcmp(pt->label, "EP") != 0;
+    if (special) {
+        sb_printf(&r->special, "%ld\t%d\t%s\t%.12g\t%.12g", r->npoints, r->branch, pt->label,
+                  fin(pt->p), fin(sarc));
         for (int i = 0; i < s->nprobes; i++) {
             double u[3];
             probe_disp(r, pt->y, i, u);
             sb_printf(&r->special, "\t%.12g\t%.12g\t%.12g", fin(u[0]), fin(u[1]), fin(u[2]));
         }
-        sb_printf(&r->special, "\n");
+        stab_fields(r, &r->special);
+        sb_printf(&r->special, "\t%.3g\n", fin(pt->loc_err));
+        if (pt->loc_err > 1e-6 * (1.0 + fabs(pt->p)))
+            branch_note(r, "%s at row %ld (branch %d, p = %.10g) located only to within %.3g in "
+                        "arclength: the corrector left the branch while bisecting", pt->label,
+                        r->npoints, r->branch, pt->p, pt->loc_err);
+        if (strcmp(pt->label, "BP") == 0 && remember_bp(r, pt)) {
+            r->failed = 1;
+            return 1;
+        }
     }
-    /* shapes: the first point, then every shape_dp in p, and the last */
+    /* shapes: the first point of each branch, then one whenever p has
+     * moved by shape_dp since the last shape, and the last point */
     int want = r->nshapes > 0 &&
-               (r->npoints == 0 ||
-                (r->shape_dp > 0 && (pt->p - r->next_shape) * (r->p_end >= r->p_start ? 1 : -1) >= -1e-12) ||
-                strcmp(pt->label, "EP") == 0);
+               (r->branch_first || strcmp(pt->label, "EP") == 0 ||
+                (r->shape_dp > 0 && fabs(pt->p - r->last_shape_p) >= r->shape_dp * (1 - 1e-9)));
+    r->branch_first = 0;
     if (want) {
         char rel[64], path[1200];
         snprintf(rel, sizeof rel, "shapes/shape_%04ld.vtp", r->npoints);
@@ -169,15 +285,11 @@ static int on_point(const cont_point *pt, void *data)
             r->failed = 1;
             return 1;
         }
-        while (r->shape_dp > 0 &&
-               (pt->p - r->next_shape) * (r->p_end >= r->p_start ? 1 : -1) >= -1e-12)
-            r->next_shape += (r->p_end >= r->p_start ? 1 : -1) * r->shape_dp;
+        r->last_shape_p = pt->p;
     }
     if (r->cmp) {
-        /* reference comparison: a new branch block starts where the engine restarts */
-        if (pt->index == 0 && r->last_index > 0) r->block++;
-        r->last_index = pt->index;
-        if (sf_compare_add(r->cmp, eq, r->probes, pt->y, pt->p, r->block, r->err)) {
+        /* reference comparison: points of each branch form their own block */
+        if (sf_compare_add(r->cmp, eq, r->probes, pt->y, pt->p, r->branch, r->err)) {
             r->failed = 1;
             return 1;
         }
@@ -186,6 +298,9 @@ static int on_point(const cont_point *pt, void *data)
         fprintf(stderr, "point %4ld  p %-11.6g s %-10.4g newton %2d  |g| %-9.2g", r->npoints,
                 pt->p, sarc, pt->newton_iters, fmax(rr, rt));
         if (s->nprobes) fprintf(stderr, "  %s uz %-11.5g", s->probes[0].name, u0[2]);
+        if (r->do_stab)
+            fprintf(stderr, "  %s", r->stab.res.stable ? "stable  " : "unstable");
+        if (r->nbranches > 1 || r->max_depth > 0) fprintf(stderr, "  branch %d", r->branch);
         fprintf(stderr, "%s%s\n", pt->label[0] ? "  " : "", pt->label);
     }
     r->npoints++;
@@ -195,6 +310,66 @@ static int on_point(const cont_point *pt, void *data)
 static int component_index(const char *c)
 {
     return strcmp(c, "x") == 0 ? 0 : strcmp(c, "y") == 0 ? 1 : 2;
+}
+
+/* Follow the branches through the branch points met so far, breadth
+ * first: at each simple branch point, the new direction t2 from
+ * cont_branch_direction, then one branch along +t2 and one along -t2.
+ * A branch that fails is kept up to where it stopped and noted; it does
+ * not end the run. */
+static int switch_branches(run_ctx *r)
+{
+    cont_solver *cs = r->solver;
+    sf_equil *eq = &r->eq;
+    int n = eq->n;
+    double *t2 = malloc(sizeof(double) * (size_t)(n + 1));
+    if (!t2) return sf_fail(r->err, SF_ENOMEM, "out of memory");
+    int rc = SF_OK;
+    while (!rc && r->nextbp < r->nbp) {
+        run_bp bp = r->bp[r->nextbp++];
+        double tp2;
+        if (cont_branch_direction(cs, bp.y, bp.p, bp.ty, bp.tp, t2, &tp2) != CONT_OK) {
+            branch_note(r, "branch point at row %ld (branch %d, p = %.10g): no switching: %s",
+                        bp.point, bp.branch, bp.p, cont_errmsg(cs));
+            continue;
+        }
+        for (int sgn = 1; sgn >= -1 && !rc; sgn -= 2) {
+            if (r->nbranches >= RUN_MAX_BRANCHES) {
+                branch_note(r, "more than %d branches: not following the rest", RUN_MAX_BRANCHES);
+                free(t2);
+                return SF_OK;
+            }
+            double *t = malloc(sizeof(double) * (size_t)n);
+            if (!t) { rc = sf_fail(r->err, SF_ENOMEM, "out of memory"); break; }
+            for (int i = 0; i < n; i++) t[i] = sgn * t2[i];
+            if (r->nshapes > 0) {
+                /* each branch has its own series of shapes */
+                if (sf_pvd_write(&r->pvd, r->err)) { free(t); rc = r->err->code; break; }
+                sf_pvd_free(&r->pvd);
+                char pvd[1100];
+                snprintf(pvd, sizeof pvd, "%s/shapes_branch%d.pvd", r->dir, r->nbranches + 1);
+                sf_pvd_init(&r->pvd, pvd);
+            }
+            r->branch_first = 1;
+            r->nbranches++;
+            r->branch = r->nbranches;
+            r->depth = bp.depth + 1;
+            r->s_offset = 0.0;
+            sb_printf(&r->rows, "\n\n");
+            long first = r->npoints;
+            int st = cont_start_tangent(cs, bp.y, bp.p, t, sgn * tp2);
+            if (st == CONT_OK && !r->failed) st = cont_run(cs);
+            free(t);
+            if (r->failed) { rc = r->err->code; break; }
+            if (st != CONT_OK && st != CONT_DONE)
+                branch_note(r, "branch %d (from the branch point at row %ld, %s side) stopped "
+                            "after %ld points: %s", r->branch, bp.point, sgn > 0 ? "+" : "-",
+                            r->npoints - first, cont_errmsg(cs));
+        }
+        r->bp[r->nextbp - 1].switched = 1;
+    }
+    free(t2);
+    return rc;
 }
 
 static int run_equilibrium(run_ctx *r)
@@ -217,6 +392,18 @@ static int run_equilibrium(run_ctx *r)
         sf_study_string(s, "analysis.probe", "", &probe, err) ||
         sf_study_string(s, "analysis.component", "z", &comp, err))
         return err->code;
+    int stab_on = 1, nev = 4, depth = 0;
+    const char *eigsolver = "auto";
+    if (sf_study_bool(s, "analysis.stability", 1, &stab_on, err) ||
+        sf_study_int(s, "analysis.eigenvalues", 4, &nev, err) ||
+        sf_study_int(s, "analysis.branch_depth", 0, &depth, err) ||
+        sf_study_string(s, "analysis.eigensolver", "auto", &eigsolver, err))
+        return err->code;
+    r->do_stab = stab_on;
+    r->nev = stab_on ? nev : 0;
+    r->max_depth = depth;
+    r->branch = 1;
+    r->nbranches = 1;
     int ptype = strcmp(param, "actuation") == 0 ? SF_PARAM_ACTUATION
               : strcmp(param, "displacement") == 0 ? SF_PARAM_DISPLACEMENT : SF_PARAM_LOAD;
     int gi = -1, pi = 0;
@@ -239,6 +426,11 @@ static int run_equilibrium(run_ctx *r)
             sf_error_prefix(err, "%s:%d: probe %d", s->path, s->probes[i].line, i + 1);
             return err->code;
         }
+    if (r->do_stab) {
+        int meth = strcmp(eigsolver, "dense") == 0 ? SF_EIG_DENSE
+                 : strcmp(eigsolver, "arpack") == 0 ? SF_EIG_ARPACK : SF_EIG_AUTO;
+        if (sf_stab_init(&r->stab, eq, meth, nev > 0 ? nev : 1, err)) return err->code;
+    }
     /* the continuation engine sees only this problem */
     if (sf_equil_create_solver(eq, &r->solver) != CONT_OK)
         return sf_fail(err, SF_ENOMEM, "continuation: %s",
@@ -255,7 +447,7 @@ static int run_equilibrium(run_ctx *r)
     r->p_end = end;
     r->nshapes = s->shapes;
     r->shape_dp = s->shapes > 0 ? fabs(end - start) / s->shapes : 0.0;
-    r->next_shape = start;
+    r->branch_first = 1;
     double *y0 = calloc((size_t)eq->n + 1, sizeof(double));
     if (!y0) return sf_fail(err, SF_ENOMEM, "out of memory");
     int dir = end >= start ? +1 : -1, rc;
@@ -319,7 +511,7 @@ static int run_equilibrium(run_ctx *r)
     if (rc == CONT_FAIL)
         return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: %s", s->path,
                        r->npoints, cont_errmsg(cs));
-    return SF_OK;
+    return switch_branches(r);
 }
 
 static int write_outputs(run_ctx *r)
@@ -336,27 +528,40 @@ static int write_outputs(run_ctx *r)
     } while (0)
     /* branch.tsv: comments, column names, rows */
     sb_printf(&out, "%s", r->header.s ? r->header.s : "");
+    if (r->bnotes.n) sb_printf(&out, "%.*s", (int)r->bnotes.n, r->bnotes.s);
+    if (r->do_stab)
+        sb_printf(&out, "# stability: %ld points by the dense LAPACK method, %ld by ARPACK "
+                        "(analysis.eigensolver)\n", r->neig_method[SF_EIG_DENSE],
+                  r->neig_method[SF_EIG_ARPACK]);
     sb_printf(&out, "# units: s, p, load: as the parameter (load factor, actuation factor, or m); "
-                    "probe*: m; energy: J; residual_rot: 1; residual_tra: m; theta*: rad\n");
-    sb_printf(&out, "point\ts\tp\tload");
+                    "probe*: m; energy: J; residual_rot: 1; residual_tra: m; eig*: J per unit "
+                    "of the coordinates (rad, mode amplitude); theta*: rad\n");
+    if (r->nbranches > 1)
+        sb_printf(&out, "# %d branches, each a block after two blank lines (gnuplot index 0..%d)\n",
+                  r->nbranches, r->nbranches - 1);
+    sb_printf(&out, "point\tbranch\ts\tp\tload");
     for (int i = 0; i < s->nprobes; i++)
         sb_printf(&out, "\tprobe%d_ux\tprobe%d_uy\tprobe%d_uz", i + 1, i + 1, i + 1);
-    sb_printf(&out, "\tenergy\tresidual\tresidual_rot\tresidual_tra\tnewton\ttype");
+    sb_printf(&out, "\tenergy\tresidual\tresidual_rot\tresidual_tra\tnewton\tstable\tmorse");
+    for (int i = 0; i < r->nev; i++) sb_printf(&out, "\teig%d", i + 1);
+    sb_printf(&out, "\ttype");
     for (int i = 0; i < s->nfolds; i++) sb_printf(&out, "\ttheta%d", i + 1);
     sb_printf(&out, "\n");
-    if (r->branch.n) sb_printf(&out, "%.*s", (int)r->branch.n, r->branch.s);
+    if (r->rows.n) sb_printf(&out, "%.*s", (int)r->rows.n, r->rows.s);
     WRITE("branch.tsv", out);
     out.n = 0;
     sb_printf(&out, "# smoothfold %s per-step solver statistics for %s\n", PACKAGE_VERSION, s->name);
-    sb_printf(&out, "point,p,ds,newton,residual_evals,jacobian_evals,retries,locate_points,wall_s\n");
+    sb_printf(&out, "point,branch,p,ds,newton,residual_evals,jacobian_evals,retries,locate_points,wall_s\n");
     if (r->stats.n) sb_printf(&out, "%.*s", (int)r->stats.n, r->stats.s);
     WRITE("stats.csv", out);
     out.n = 0;
     sb_printf(&out, "%s", r->header.s ? r->header.s : "");
-    sb_printf(&out, "point\ttype\tp\ts");
+    sb_printf(&out, "point\tbranch\ttype\tp\ts");
     for (int i = 0; i < s->nprobes; i++)
         sb_printf(&out, "\tprobe%d_ux\tprobe%d_uy\tprobe%d_uz", i + 1, i + 1, i + 1);
-    sb_printf(&out, "\n");
+    sb_printf(&out, "\tstable\tmorse");
+    for (int i = 0; i < r->nev; i++) sb_printf(&out, "\teig%d", i + 1);
+    sb_printf(&out, "\tloc_err\n");
     if (r->special.n) sb_printf(&out, "%.*s", (int)r->special.n, r->special.s);
     WRITE("special.tsv", out);
     free(out.s);
@@ -380,6 +585,16 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
         sf_scene_close(&sc);
         return err->code;
     }
+    if (strcmp(sc.study.analysis_type, "dynamics") == 0) {
+        /* reference data are compared with equilibrium paths only: say so
+         * rather than ignore a declared tolerance silently */
+        if (sf_study_count(&sc.study, "references") > 0 && !o->quiet)
+            fprintf(stderr, "smoothfold: note: the study's references are compared with "
+                            "equilibrium paths only, not with this trajectory\n");
+        int drc = sf_run_dynamics(&sc, o, err);
+        sf_scene_close(&sc);
+        return drc;
+    }
     run_ctx r;
     memset(&r, 0, sizeof r);
     r.sc = &sc;
@@ -389,7 +604,7 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     int rc = SF_OK;
     if (strcmp(sc.study.analysis_type, "equilibrium") != 0) {
         rc = sf_fail(err, SF_EINPUT, "%s: analysis.type \"%s\" is not available in this version "
-                     "(only \"equilibrium\")", sc.study.path, sc.study.analysis_type);
+                     "(only \"equilibrium\" and \"dynamics\")", sc.study.path, sc.study.analysis_type);
     }
     char shapes[1100];
     snprintf(shapes, sizeof shapes, "%s/shapes", r.dir);
@@ -430,10 +645,17 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     if (r.solver) cont_free(r.solver);
     sf_equil_free(&r.eq);
     free(r.probes);
-    free(r.branch.s);
+    free(r.rows.s);
     free(r.stats.s);
     free(r.special.s);
     free(r.header.s);
+    free(r.bnotes.s);
+    for (int i = 0; i < r.nbp; i++) {
+        free(r.bp[i].y);
+        free(r.bp[i].ty);
+    }
+    free(r.bp);
+    if (r.do_stab) sf_stab_free(&r.stab);
     sf_pvd_free(&r.pvd);
     sf_scene_close(&sc);
     return rc;

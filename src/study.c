@@ -88,6 +88,7 @@ static const sf_study_key schema[] = {
     {"folds[].material",           STR,   0,              0, 0,       NULL,          NULL, "-", "material (else defaults.material)"},
     {"folds[].group",              STR,   0,              0, 0,       NULL,          NULL, "-", "actuation group the fold belongs to"},
     {"folds[].rest_angle",         NUM,   0,              0, 0,       NULL,          NULL, "rad", "stress-free fold angle (else defaults.rest_angle)"},
+    {"folds[].damping",            NUM,   POS,            0, 0,       NULL,          NULL, "J s", "dynamics: damping coefficient of the fold angle (else analysis.damping)"},
 
     {"fixed_face",                 V2,    REQ,            0, 0,       NULL,          NULL, "m", "a point inside the fixed face"},
 
@@ -106,6 +107,10 @@ static const sf_study_key schema[] = {
     {"actuation[]",                G,     0,              0, 0,       NULL,          NULL, "-", "one group"},
     {"actuation[].name",           STR,   REQ | IDENT,    0, 0,       NULL,          NULL, "-", "group name (folds join with group = name)"},
     {"actuation[].rest_angle",     NUM,   REQ,            0, 0,       NULL,          NULL, "rad", "rest angle of its folds at actuation parameter 1"},
+    {"actuation[].schedule",       LIST,  0,              0, 0,       NULL,          NULL, "-", "dynamics: actuation factor of this group over time, piecewise linear (overrides p for the group)"},
+    {"actuation[].schedule[]",     G,     0,              0, 0,       NULL,          NULL, "-", "one point of the group's schedule"},
+    {"actuation[].schedule[].t",   NUM,   REQ | NONNEG,   0, 0,       NULL,          NULL, "s", "time"},
+    {"actuation[].schedule[].value", NUM, REQ,            0, 0,       NULL,          NULL, "-", "actuation factor at t (rest angle = value * rest_angle)"},
 
     {"supports",                   LIST,  0,              0, 0,       NULL,          NULL, "-", "point supports / prescribed displacements"},
     {"supports[]",                 G,     0,              0, 0,       NULL,          NULL, "-", "one support"},
@@ -145,16 +150,24 @@ static const sf_study_key schema[] = {
     {"analysis.max_steps",         INT,   SF_KEY_GE,      1, 0,       "500",         NULL, "-", "most steps along a branch"},
     {"analysis.stability",         BOOL,  0,              0, 0,       "true",        NULL, "-", "compute stability along the path"},
     {"analysis.eigenvalues",       INT,   SF_KEY_GE,      0, 0,       "4",           NULL, "-", "lowest eigenvalues of the constrained Hessian reported"},
+    {"analysis.eigensolver",       STR,   0,              0, 0,       "auto",        "auto|dense|arpack", "-", "eigenvalues of the constrained Hessian: dense LAPACK (explicit tangent basis), ARPACK shift-invert on the KKT pencil, or auto (dense up to 200 coordinates)"},
     {"analysis.branch_depth",      INT,   SF_KEY_GE,      0, 0,       "0",           NULL, "-", "levels of branch switching at branch points (0: none)"},
     {"analysis.report",            STR,   0,              0, 0,       NULL,          NULL, "-", "probe reported against p (default: the first probe)"},
     {"analysis.duration",          NUM,   POS | DYN,      0, 0,       NULL,          NULL, "s", "length of the trajectory (required for dynamics)"},
-    {"analysis.damping",           NUM,   POS | DYN,      0, 0,       "1.0",         NULL, "J s", "damping coefficient per generalised coordinate"},
+    {"analysis.damping",           NUM,   POS | DYN,      0, 0,       "1.0",         NULL, "J s", "damping coefficient of every fold angle without folds[].damping"},
     {"analysis.inertia",           BOOL,  DYN,            0, 0,       "false",       NULL, "-", "include inertia (otherwise overdamped, M = 0)"},
-    {"analysis.settle_tolerance",  NUM,   POS | DYN,      0, 0,       "1e-08",       NULL, "-", "|q'| below which the trajectory has settled"},
+    {"analysis.settle_tolerance",  NUM,   POS | DYN,      0, 0,       "1e-08",       NULL, "rad/s", "max |q'| below which the trajectory has settled (once every history has ended)"},
     {"analysis.schedule",          LIST,  0,              0, 0,       NULL,          NULL, "-", "p(t), piecewise linear (default: start to end over duration)"},
     {"analysis.schedule[]",        G,     0,              0, 0,       NULL,          NULL, "-", "one point of the schedule"},
     {"analysis.schedule[].t",      NUM,   REQ | NONNEG,   0, 0,       NULL,          NULL, "s", "time"},
     {"analysis.schedule[].value",  NUM,   REQ,            0, 0,       NULL,          NULL, "-", "value of p at t"},
+    {"analysis.load_schedule",     LIST,  0,              0, 0,       NULL,          NULL, "-", "dynamics: load factor over time, piecewise linear, when p is not the load (default: analysis.load throughout)"},
+    {"analysis.load_schedule[]",   G,     0,              0, 0,       NULL,          NULL, "-", "one point of the load schedule"},
+    {"analysis.load_schedule[].t", NUM,   REQ | NONNEG,   0, 0,       NULL,          NULL, "s", "time"},
+    {"analysis.load_schedule[].value", NUM, REQ | NONNEG, 0, 0,       NULL,          NULL, "-", "load factor at t"},
+    {"analysis.initial",           STR,   DYN,            0, 0,       "equilibrium", "equilibrium|flat", "-", "dynamics: start at rest in the equilibrium at t = 0, or at rest in the flat state"},
+    {"analysis.tolerance",         NUM,   POS | DYN,      0, 0,       "1e-06",       NULL, "-", "dynamics: relative local error tolerance of the integrator (IDA)"},
+    {"analysis.max_time_steps",    INT,   SF_KEY_GE | DYN, 1, 0,      "100000",      NULL, "-", "dynamics: most integrator steps"},
 
     /* reference data compared with the path (compare.c, docs/study-format.md) */
     {"references",                 LIST,  0,              0, 0,       NULL,          NULL, "-", "reference data files compared with the computed path"},
@@ -1516,6 +1529,24 @@ static int fill(sf_study *s, config_t *cfg, sf_error *err)
             if (!(t > tprev))
                 return bad(s, err, mem(e, "t"), "times must increase (got %g after %g)", t, tprev);
             tprev = t;
+        }
+        /* the other time histories of a trajectory: same rule */
+        const config_setting_t *lists[64];
+        int nl = 0;
+        lists[nl++] = mem(an, "load_schedule");
+        const config_setting_t *acts = mem(root, "actuation");
+        for (int g = 0; acts && g < config_setting_length(acts) && nl < 64; g++)
+            lists[nl++] = mem(config_setting_get_elem(acts, (unsigned)g), "schedule");
+        for (int l = 0; l < nl; l++) {
+            int nlen = lists[l] ? config_setting_length(lists[l]) : 0;
+            tprev = -INFINITY;
+            for (int i = 0; i < nlen; i++) {
+                const config_setting_t *e = config_setting_get_elem(lists[l], (unsigned)i);
+                double t = numval(mem(e, "t"));
+                if (!(t > tprev))
+                    return bad(s, err, mem(e, "t"), "times must increase (got %g after %g)", t, tprev);
+                tprev = t;
+            }
         }
     }
 

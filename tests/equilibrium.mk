@@ -8,3 +8,9 @@ tests_test_energy_LDADD = $(SF_TEST_LIBS)
 tests_test_validation_SOURCES = tests/test_validation.c
 tests_test_validation_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_validation_LDADD = $(SF_TEST_LIBS)
+# stability, special points, branch switching and the hard cases
+check_PROGRAMS += tests/test_stability
+TESTS += tests/test_stability
+tests_test_stability_SOURCES = tests/test_stability.c
+tests_test_stability_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_stability_LDADD = $(SF_TEST_LIBS)

@@ -24,4 +24,5 @@ TESTS += tests/test_vtk.sh
 EXTRA_DIST += tests/test_vtk.sh
 include tests/equilibrium.mk
 EXTRA_DIST += tests/sf_test.h
+include tests/dynamics.mk
 include tests/accuracy.mk

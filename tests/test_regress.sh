@@ -1,8 +1,9 @@
 #!/bin/sh
-# test_regress.sh - every study of CASES.md (and fold1-buckle, snap1)
-# against the stored results of the current release, tests/regress/STUDY.csv
-# (written by tests/regress/regenerate.sh; a change of results must be
-# intended, and the files regenerated in the same commit).
+# test_regress.sh - every study of CASES.md (and fold1-buckle, snap1, the
+# stability studies square4-inplane and hard-*) against the stored results
+# of the current release, tests/regress/STUDY.csv (written by
+# tests/regress/regenerate.sh; a change of results must be intended, and
+# the files regenerated in the same commit).
 #
 # How: `smoothfold run STUDY` with the stored file as its reference
 # (--set references=...), so the program's own comparison solves the
@@ -17,20 +18,27 @@
 #   probes together), fold angles (all folds together), energy.
 # RTOL = 1e-8.  What legitimately moves a stored value: each is a solution
 # of F = 0 to the Newton tolerance 1e-10 on the scaled residual, reached
-# from another starting point when the steps change.  Measured over all ten
+# from another starting point when the steps change.  Measured over the
 # studies (SF_REGRESS_SET below): halving or doubling analysis.step,
 # halving max_step, solver.tolerance = 1e-12, or the sparse linear solver
-# move no value by more than 1.7e-11 of its scale (waterbomb2, step 0.1);
-# RTOL leaves a factor of ~600 above that for other compilers' and BLAS
-# round-off.  A change of the model shows far above it: fold E changed by
-# 1e-6 (relative) fails every study but the flat fold1-buckle, by 36 to
-# 140 times RTOL.
+# move no value by more than 8.1e-11 of its scale (waterbomb2, max_step
+# 0.1); RTOL leaves a factor of ~120 above that for other compilers' and
+# BLAS round-off.  Two hard cases are worse conditioned, and the Newton
+# tolerance leaves more in them: hard-tiny-width moves by up to 1.4e-9
+# (solver.tolerance 1e-12), so RTOL = 1e-6 there; hard-stiff-ratio (a
+# stiffness ratio of 1e8) by up to 4.5e-5, so RTOL = 1e-3.  A change of the
+# model shows far above RTOL: fold E changed by 1e-6 (relative) fails every
+# study but hard-stiff-ratio, by 36 to 390 times RTOL (hard-tiny-width: 1x).
+# What is NOT a tolerance matter: which branches a run finds depends on the
+# step control (square4-inplane with max_step 0.1 follows other branches;
+# fold1-buckle with the sparse solver does not switch branches at all, see
+# docs/accuracy.md); such a change fails the test, as it should.
 #     SF_REGRESS_SET='analysis.step=0.1' tests/test_regress.sh   (in the build dir)
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 bin=${SF_BUILDDIR:-.}/src/smoothfold
 rtol=${SF_REGRESS_RTOL:-1e-8}
-studies="strip3 fold1 waterbomb2 square4 square4-stiff square4-narrow square4-corner square4-irregular fold1-buckle snap1"
+studies="strip3 fold1 waterbomb2 square4 square4-stiff square4-narrow square4-corner square4-irregular fold1-buckle snap1 square4-inplane hard-near-pi hard-stiff-ratio hard-tiny-width"
 # the project's reference data (../shared/data), also when the source tree
 # is elsewhere (SF_SHARED, as the other tests)
 SMOOTHFOLD_DATA="${SMOOTHFOLD_DATA:+$SMOOTHFOLD_DATA:}${SF_SHARED:-$src/../shared}/data"; export SMOOTHFOLD_DATA
@@ -43,8 +51,14 @@ for s in $studies; do
     i=$((i + 1))
     ref=$src/tests/regress/$s.csv
     if [ ! -f "$ref" ]; then echo "not ok $i - $s: no stored results $ref"; continue; fi
+    # the hard cases' conditioning (above)
+    case $s in
+        hard-tiny-width) rt=${SF_REGRESS_RTOL:-1e-6};;
+        hard-stiff-ratio) rt=${SF_REGRESS_RTOL:-1e-3};;
+        *) rt=$rtol;;
+    esac
     # column list with absolute tolerances from the file's own scales
-    cols=$(awk -F',' -v rtol="$rtol" '
+    cols=$(awk -F',' -v rtol="$rt" '
         /^#/ { next }
         !h { nc = NF; for (k = 1; k <= NF; k++) name[k] = $k; h = 1; next }
         { for (k = 1; k <= nc; k++) { v = $k < 0 ? -$k : $k; kind = kindof(name[k]); if (v > sc[kind]) sc[kind] = v } }

@@ -143,7 +143,10 @@ static void test_all_studies_load(void **state)
         if (strcmp(param, "load") == 0 && strstr(g.gl_pathv[i], "buckle") == NULL)
             CHECK_EQ_D(end, s.nstages, "analysis.end = number of stages");
         assert_true(s.nprobes >= 1);
-        for (int f = 0; f < s.nfolds; f++) assert_true(s.folds[f].material == m);
+        /* the common fold material everywhere, except in the solver's hard
+         * cases (hard-*.cfg), which vary it on purpose */
+        if (strstr(g.gl_pathv[i], "/hard-") == NULL)
+            for (int f = 0; f < s.nfolds; f++) assert_true(s.folds[f].material == m);
         sf_study_free(&s);
     }
     globfree(&g);

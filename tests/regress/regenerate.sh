@@ -10,7 +10,7 @@ set -e
 src=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:?usage: regenerate.sh BUILDDIR [STUDY...]}
 shift
-studies=${*:-"strip3 fold1 waterbomb2 square4 square4-stiff square4-narrow square4-corner square4-irregular fold1-buckle snap1"}
+studies=${*:-"strip3 fold1 waterbomb2 square4 square4-stiff square4-narrow square4-corner square4-irregular fold1-buckle snap1 square4-inplane hard-near-pi hard-stiff-ratio hard-tiny-width"}
 rev=$(git -C "$src" rev-parse --short HEAD 2>/dev/null || echo unknown)
 for s in $studies; do
     "$src/tests/regress/sample.sh" "$build/src/smoothfold" "$src/studies/$s.cfg" "$src/tests/regress/$s.csv" "git $rev"

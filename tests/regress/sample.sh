@@ -7,12 +7,13 @@
 #
 # usage: tests/regress/sample.sh SMOOTHFOLD STUDY.cfg OUT.csv [NOTE] [--set KEY=VALUE]...
 #
-# Sample points: the path is cut into pieces monotone in p (limit points
-# separate them); on each piece p at fixed fractions of the way through its
-# range, at 1/8, 2/8, ... 7/8 (away from turning points, where a fixed-p solve is ill-conditioned),
-# plus the first and the last computed point of the path.  Branch.tsv is
-# read by column NAME (p, probe*_u*, theta*, energy; other columns ignored;
-# only the first block, the main branch).
+# Sample points: each branch (block of branch.tsv) is cut into pieces
+# monotone in p (limit points separate them); on each piece p at 1/8, 2/8,
+# ... 7/8 of the way through its range (away from turning points, where a
+# fixed-p solve is ill-conditioned), plus the first point of the path and
+# the last point of every branch.  Rows follow the path, branch by branch.
+# branch.tsv is read by column NAME (p, probe*_u*, theta*, energy; other
+# columns ignored).
 set -e
 bin=$1; study=$2; out=$3; note=${4:-}
 shift 3; [ $# -gt 0 ] && shift
@@ -24,9 +25,8 @@ awk -F'\t' -v OFS=',' '
     /^#/ { next }
     !hdr { for (i = 1; i <= NF; i++) if ($i == "p" || $i ~ /^probe[0-9]+_u[xyz]$/ || $i ~ /^theta[0-9]+$/ || $i == "energy") { c[++nc] = i; name[nc] = $i; if ($i == "p") cp = nc }
            hdr = 1; next }
-    NF == 0 { if (n) done = 1; next }
-    done { next }
-    { n++; for (k = 1; k <= nc; k++) v[n, k] = $c[k] }
+    NF == 0 { if (n > bstart[nb]) { bend[nb] = n; nb++; bstart[nb] = n + 1 } ; next }
+    { if (!nb) { nb = 1; bstart[1] = 1 } ; n++; for (k = 1; k <= nc; k++) v[n, k] = $c[k] }
     function emit(a, b, t,   k, line) {
         line = ""
         for (k = 1; k <= nc; k++) line = line (k > 1 ? "," : "") sprintf("%.15g", v[a, k] + t * (v[b, k] - v[a, k]))
@@ -44,17 +44,21 @@ awk -F'\t' -v OFS=',' '
         }
     }
     END {
+        if (n > bstart[nb] - 1) bend[nb] = n; else nb--
         line = ""; for (k = 1; k <= nc; k++) line = line (k > 1 ? "," : "") name[k]; print line
-        emit(1, 1, 0)
-        a = 1; dir = 0
-        for (i = 2; i <= n; i++) {
-            d = v[i, cp] - v[i - 1, cp]; if (d == 0) continue
-            s = d > 0 ? 1 : -1
-            if (dir && s != dir) { sample(a, i - 1); a = i - 1 }
-            dir = s
+        for (bk = 1; bk <= nb; bk++) {
+            f = bstart[bk]; l = bend[bk]
+            if (bk == 1) emit(f, f, 0)        # later branches start at a point of an earlier one
+            a = f; dir = 0
+            for (i = f + 1; i <= l; i++) {
+                d = v[i, cp] - v[i - 1, cp]; if (d == 0) continue
+                s = d > 0 ? 1 : -1
+                if (dir && s != dir) { sample(a, i - 1); a = i - 1 }
+                dir = s
+            }
+            sample(a, l)
+            emit(l, l, 0)
         }
-        sample(a, n)
-        emit(n, n, 0)
     }' "$tmp/run/branch.tsv" > "$tmp/body.csv"
 { echo "# template"; echo "# source: linear interpolation"; echo "# kind: simulated"; echo "# units: as branch.tsv"; cat "$tmp/body.csv"; } > "$tmp/template.csv"
 cols=$(head -1 "$tmp/body.csv" | tr ',' '\n' | grep -v '^p$' | awk '{printf "%s{ column = \"%s\"; measure = \"absolute\"; }", (NR > 1 ? ", " : ""), $1}')
