@@ -1,8 +1,9 @@
 #!/bin/sh
 # bench/studies.sh - whole-process wall time of `smoothfold run` for every
 # study of CASES.md and the stability studies (median of N runs, shapes off
-# so disk I/O is not timed; stability analysis on, as by default), with
-# points (all branches) and Newton iterations.  Prints a Markdown table.
+# so disk I/O is not timed; stability analysis on, as by default; reference
+# comparisons off: they add solves at the reference loads), with points
+# (all branches) and Newton iterations.  Prints a Markdown table.
 # usage: bench/studies.sh [BUILDDIR] [N]      (not part of make check)
 src=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$src}
@@ -19,7 +20,7 @@ for s in strip3 fold1 waterbomb2 square4 square4-stiff square4-narrow square4-co
     i=0
     while [ $i -lt $n ]; do
         t0=$(date +%s.%N)
-        "$bin" run "$cfg" --set output.shapes=0 -o "$out/$s" -q >/dev/null 2>&1 || { echo "| $s | failed | | | | |"; continue 2; }
+        "$bin" run "$cfg" --set output.shapes=0 --set 'references=()' -o "$out/$s" -q >/dev/null 2>&1 || { echo "| $s | failed | | | | |"; continue 2; }
         t1=$(date +%s.%N)
         times="$times $(awk -v a="$t0" -v b="$t1" 'BEGIN{print b - a}')"
         i=$((i + 1))

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "compare.h"
 #include "kinematics.h"
 #include "mobility.h"
 #include "scene.h"
@@ -119,8 +120,12 @@ int sf_cmd_check(const sf_options *o, sf_error *err)
         return err->code;
     }
     printf("analysis: %s\n", s->analysis_type);
+    sf_compare *cmp = NULL;     /* reference files: read and checked here too */
+    int rc = sf_compare_open(&cmp, s, err);
+    if (!rc) sf_compare_print_files(cmp, stdout);
+    sf_compare_free(cmp);
     sf_scene_close(&sc);
-    return SF_OK;
+    return rc;
 }
 
 /* Parse --angles: one value for all folds, or one per fold. */

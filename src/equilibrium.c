@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include <sunmatrix/sunmatrix_dense.h>
+#include <sunmatrix/sunmatrix_sparse.h>
 
 #include "cont.h"
 
@@ -141,6 +142,8 @@ void sf_equil_free(sf_equil *q)
     free(q->dx);
     free(q->yscale);
     free(q->fscale);
+    if (q->Jd) SUNMatDestroy(q->Jd);
+    free(q->pattern);
     memset(q, 0, sizeof *q);
 }
 
@@ -350,8 +353,13 @@ int sf_equil_create_solver(sf_equil *q, cont_solver **out)
     prob.yscale = q->yscale;
     prob.fscale = q->fscale;
     prob.user = q;
+    if (q->sparse) {
+        prob.jacobian = sf_equil_jacobian_sparse;
+        prob.jac_matrix = CONT_MATRIX_SPARSE;
+        prob.jac_nnz = (long)q->n * q->n;
+    }
     *out = NULL;
-    int rc = cont_create(&prob, CONT_LINSOL_DENSE, out);
+    int rc = cont_create(&prob, q->sparse ? CONT_LINSOL_KLU : CONT_LINSOL_DENSE, out);
     if (rc == CONT_OK && q->ncon > 0) {
         double *w = calloc((size_t)q->n, sizeof(double));
         if (!w) return CONT_ENOMEM;
@@ -360,6 +368,45 @@ int sf_equil_create_solver(sf_equil *q, cont_solver **out)
         free(w);
     }
     return rc;
+}
+
+void sf_equil_use_sparse(sf_equil *q, int sparse) { q->sparse = sparse != 0; }
+
+int sf_equil_jacobian_sparse(const double *y, double p, SUNMatrix Jy, double *Fp, void *user)
+{
+    sf_equil *q = user;
+    long n = q->n;
+    if (q->Jd && SUNDenseMatrix_Columns(q->Jd) != n) {
+        SUNMatDestroy(q->Jd);
+        q->Jd = NULL;
+        free(q->pattern);
+        q->pattern = NULL;
+    }
+    if (!q->Jd) {
+        q->Jd = SUNDenseMatrix(n, n, Jy->sunctx);
+        q->pattern = calloc((size_t)(n * n) + 1, 1);
+        if (!q->Jd || !q->pattern) return 1;
+    }
+    SUNMatZero(q->Jd);
+    int rc = sf_equil_jacobian(y, p, q->Jd, Fp, q);
+    if (rc) return rc;
+    const sunrealtype *A = SUNDenseMatrix_Data(q->Jd);
+    if (SUNSparseMatrix_NNZ(Jy) < n * n && SUNSparseMatrix_Reallocate(Jy, n * n) != 0) return 1;
+    sunrealtype *v = SUNSparseMatrix_Data(Jy);
+    sunindextype *ri = SUNSparseMatrix_IndexValues(Jy), *cp = SUNSparseMatrix_IndexPointers(Jy);
+    long nz = 0;
+    for (long j = 0; j < n; j++) {
+        cp[j] = nz;
+        for (long i = 0; i < n; i++) {
+            double a = A[j * n + i];
+            if (a != 0.0 || i == j) q->pattern[j * n + i] = 1;
+            if (!q->pattern[j * n + i]) continue;
+            ri[nz] = i;
+            v[nz++] = a;
+        }
+    }
+    cp[n] = nz;
+    return 0;
 }
 
 int sf_equil_start_off_flat(sf_equil *q, double p1, double tol, double *y, sf_error *err)

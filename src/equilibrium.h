@@ -52,6 +52,11 @@ typedef struct sf_equil {
     /* scratch */
     double *grad, *H, *gp, *g, *J, *dx;
     long nres, njac;
+    /* sparse linear algebra (sf_equil_use_sparse): dense assembly, then
+     * compressed to CSC over the union of the nonzero patterns seen */
+    int sparse;
+    SUNMatrix Jd;
+    unsigned char *pattern;
     /* Optional: called at the end of sf_equil_set_param (so also inside
      * the residual, Jacobian and report), e.g. by the dynamics module to
      * apply the time histories of other actuation groups. */
@@ -68,7 +73,15 @@ void sf_equil_free(sf_equil *q);
  * and for the penalty homotopy that starts exact paths off the flat state. */
 void sf_equil_use_penalty(sf_equil *q, double lR, double ld);
 
-/* A continuation solver (dense) for this problem.  When there are
+/* Solve the Newton systems with KLU on a compressed sparse (CSC) Jacobian
+ * instead of dense LU (solver.linear_solver = "sparse").  The Jacobian is
+ * assembled densely, then compressed: what changes is the factorisation. */
+void sf_equil_use_sparse(sf_equil *q, int sparse);
+int sf_equil_jacobian_sparse(const double *y, double p, SUNMatrix Jy, double *Fp, void *user);
+
+
+/* A continuation solver for this problem: dense LU, or KLU after
+ * sf_equil_use_sparse.  When there are
  * multipliers, the arclength norm weighs the coordinates q and p only
  * (cont_set_weights: multipliers weigh 0): the multipliers of loop rows
  * that are nearly redundant (second order near the flat state) are large

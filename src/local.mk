@@ -14,6 +14,7 @@ src_libsmoothfold_a_SOURCES += src/equilibrium.c src/equilibrium.h
 src_libsmoothfold_a_SOURCES += src/flatstart.c src/flatstart.h
 src_libsmoothfold_a_SOURCES += src/reactions.c src/reactions.h
 src_libsmoothfold_a_SOURCES += src/mobility.c src/mobility.h
+src_libsmoothfold_a_SOURCES += src/compare.c src/compare.h
 src_smoothfold_SOURCES += src/run.c
 EXTRA_DIST += plots/stability.gp plots/eigenvalues.gp plots/angles.gp
 src_libsmoothfold_a_SOURCES += src/stability.c src/stability.h

@@ -46,7 +46,8 @@ static const char *usage_text =
     "  -V, --version           show the version and exit\n"
     "\n"
     "Exit status: 0 success, 1 bad input, 2 usage error, 3 numerical failure,\n"
-    "4 file error, 5 constraints leave no motion.\n"
+    "4 file error, 5 constraints leave no motion, 6 a reference comparison\n"
+    "exceeded its tolerance (run: see DIR/compare.tsv).\n"
     "Documentation: docs/study-format.md, docs/output-format.md.\n";
 
 static int exit_code(int code)
@@ -57,6 +58,7 @@ static int exit_code(int code)
     case SF_ENUMERIC: return 3;
     case SF_EIO: return 4;
     case SF_ELOCKED: return 5;
+    case SF_ETOLERANCE: return 6;
     default: return 3;
     }
 }

@@ -13,6 +13,7 @@
 #include <time.h>
 
 #include "commands.h"
+#include "compare.h"
 #include "cont.h"
 #include "equilibrium.h"
 #include "run_dynamics.h"
@@ -107,6 +108,9 @@ typedef struct run_ctx {
     int skip_start;       /* the next point repeats the last one (stage restart) */
     double seg_end;       /* end of the stage being followed (multi-stage loads) */
     sf_reactions reac;    /* reactions.tsv rows (supports, prescribed displacement) */
+    sf_compare *cmp;      /* reference data of the study (compare.h), or NULL */
+    int compared;         /* comparison done */
+    cont_stats tot;       /* solver totals of the path (before the comparison) */
 } run_ctx;
 
 static double now(void)
@@ -309,6 +313,13 @@ static int on_point(const cont_point *pt, void *data)
         }
         r->last_shape_p = pt->p;
     }
+    if (r->cmp) {
+        /* reference comparison: points of each branch form their own block */
+        if (sf_compare_add(r->cmp, eq, r->probes, pt->y, pt->p, r->branch, r->err)) {
+            r->failed = 1;
+            return 1;
+        }
+    }
     if (!r->opt->quiet) {
         fprintf(stderr, "point %4ld  p %-11.6g s %-10.4g newton %2d  |g| %-9.2g", r->npoints,
                 pt->p, sarc, pt->newton_iters, fmax(rr, rt));
@@ -472,6 +483,9 @@ static int run_equilibrium(run_ctx *r)
     sf_reactions_init(&r->reac, ptype == SF_PARAM_DISPLACEMENT ? pi : -1);
     if (s->constraints == SF_CONSTRAINTS_PENALTY)
         sf_equil_use_penalty(eq, s->penalty_rotation, s->penalty_translation);
+    const char *linsol;
+    if (sf_study_string(s, "solver.linear_solver", "dense", &linsol, err)) return err->code;
+    sf_equil_use_sparse(eq, strcmp(linsol, "sparse") == 0);
     r->probes = calloc((size_t)s->nprobes + 1, sizeof(sf_mpoint));
     if (!r->probes) return sf_fail(err, SF_ENOMEM, "out of memory");
     for (int i = 0; i < s->nprobes; i++)
@@ -660,6 +674,7 @@ static int write_outputs(run_ctx *r)
     snprintf(hdr, sizeof hdr, "merged study run by smoothfold %s (after --set overrides)",
              PACKAGE_VERSION);
     if (sf_study_write(s, path, hdr, err)) return err->code;
+    if (r->compared && sf_compare_write(r->cmp, r->dir, r->header.s, err)) return err->code;
     return SF_OK;
 }
 
@@ -673,6 +688,11 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
         return err->code;
     }
     if (strcmp(sc.study.analysis_type, "dynamics") == 0) {
+        /* reference data are compared with equilibrium paths only: say so
+         * rather than ignore a declared tolerance silently */
+        if (sf_study_count(&sc.study, "references") > 0 && !o->quiet)
+            fprintf(stderr, "smoothfold: note: the study's references are compared with "
+                            "equilibrium paths only, not with this trajectory\n");
         int drc = sf_run_dynamics(&sc, o, err);
         sf_scene_close(&sc);
         return drc;
@@ -690,6 +710,7 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     }
     char shapes[1100];
     snprintf(shapes, sizeof shapes, "%s/shapes", r.dir);
+    if (!rc) rc = sf_compare_open(&r.cmp, &sc.study, err);   /* bad reference files: before any output */
     if (!rc) rc = make_dir(r.dir, err);
     if (!rc && sc.study.shapes > 0) rc = make_dir(shapes, err);
     if (!rc) {
@@ -708,15 +729,21 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
             if (write_outputs(&r) == SF_OK) *err = keep;
             rc = err->code;
         } else if (!rc) {
-            rc = write_outputs(&r);
+            cont_get_stats(r.solver, NULL, &r.tot);
+            if (r.cmp) {
+                rc = sf_compare_eval(r.cmp, &r.eq, r.probes, r.solver, err);
+                r.compared = !rc;
+            }
+            if (!rc) rc = write_outputs(&r);
         }
     }
     if (!rc && !o->quiet) {
-        cont_stats tot;
-        cont_get_stats(r.solver, NULL, &tot);
         printf("%s: %ld points, %ld Newton iterations, %.3g s; results in %s\n", sc.study.name,
-               r.npoints, tot.newton_iters, now() - t0, r.dir);
+               r.npoints, r.tot.newton_iters, now() - t0, r.dir);
+        sf_compare_print(r.cmp, stdout);
     }
+    if (!rc && r.compared) rc = sf_compare_check(r.cmp, err);
+    sf_compare_free(r.cmp);
     if (r.solver) cont_free(r.solver);
     sf_equil_free(&r.eq);
     free(r.probes);

@@ -18,7 +18,8 @@ enum {
     SF_ENUMERIC = 3,  /* non-finite value, singular matrix, no convergence */
     SF_EIO = 4,       /* file could not be read or written */
     SF_ELOCKED = 5,   /* constraints leave no motion */
-    SF_EINTERNAL = 6
+    SF_EINTERNAL = 6,
+    SF_ETOLERANCE = 7 /* a reference comparison exceeded its declared tolerance */
 };
 
 typedef struct sf_error {

@@ -129,6 +129,7 @@ static const sf_study_key schema[] = {
     {"solver.penalty_translation", NUM,   POS,            0, 0,       "1.0",         NULL, "J/m^2", "lambda_d, penalty on the translation"},
     {"solver.quadrature",          INT,   RANGE,          1, 64,      "24",          NULL, "-", "Gauss-Legendre points across a fold"},
     {"solver.tolerance",           NUM,   POS,            0, 0,       "1e-10",       NULL, "-", "Newton tolerance (scaled residual norm)"},
+    {"solver.linear_solver",       STR,   0,              0, 0,       "dense",       "dense|sparse", "-", "Newton systems: dense LU (LAPACK-style, SUNDIALS dense) or sparse LU (KLU on the compressed Jacobian)"},
 
     {"output",                     G,     AUTO,           0, 0,       NULL,          NULL, "-", "output settings"},
     {"output.samples",             INT,   RANGE,          2, 1000,    "8",           NULL, "-", "samples across a fold band in VTK shapes"},
@@ -167,6 +168,25 @@ static const sf_study_key schema[] = {
     {"analysis.initial",           STR,   DYN,            0, 0,       "equilibrium", "equilibrium|flat", "-", "dynamics: start at rest in the equilibrium at t = 0, or at rest in the flat state"},
     {"analysis.tolerance",         NUM,   POS | DYN,      0, 0,       "1e-06",       NULL, "-", "dynamics: relative local error tolerance of the integrator (IDA)"},
     {"analysis.max_time_steps",    INT,   SF_KEY_GE | DYN, 1, 0,      "100000",      NULL, "-", "dynamics: most integrator steps"},
+
+    /* reference data compared with the path (compare.c, docs/study-format.md) */
+    {"references",                 LIST,  0,              0, 0,       NULL,          NULL, "-", "reference data files compared with the computed path"},
+    {"references[]",               G,     0,              0, 0,       NULL,          NULL, "-", "one reference file"},
+    {"references[].name",          STR,   IDENT,          0, 0,       NULL,          NULL, "-", "name in compare.tsv and messages (default: the file name)"},
+    {"references[].file",          STR,   REQ,            0, 0,       NULL,          NULL, "-", "CSV file with a provenance header (beside the study, in $SMOOTHFOLD_DATA, or in shared/data above the study)"},
+    {"references[].abscissa",      G,     REQ,            0, 0,       NULL,          NULL, "-", "the column that locates a reference row on the path"},
+    {"references[].abscissa.column", STR, REQ,            0, 0,       NULL,          NULL, "-", "column name in the file"},
+    {"references[].abscissa.quantity", STR, 0,            0, 0,       "p",           NULL, "-", "study quantity it matches (p, load, probe1_uz, tip_uz, theta1, energy)"},
+    {"references[].abscissa.scale", NUM,  0,              0, 0,       "1.0",         NULL, "-", "quantity = scale * column value (unit or sign change; not 0)"},
+    {"references[].solve",         BOOL,  0,              0, 0,       "true",        NULL, "-", "abscissa p (or load): solve the equilibrium at each reference value (false: interpolate between computed points)"},
+    {"references[].columns",       LIST,  REQ,            0, 0,       NULL,          NULL, "-", "the columns compared with study quantities"},
+    {"references[].columns[]",     G,     0,              0, 0,       NULL,          NULL, "-", "one compared column"},
+    {"references[].columns[].column", STR, REQ,           0, 0,       NULL,          NULL, "-", "column name in the file"},
+    {"references[].columns[].quantity", STR, 0,           0, 0,       NULL,          NULL, "-", "study quantity it matches (default: the column name)"},
+    {"references[].columns[].scale", NUM, 0,              0, 0,       "1.0",         NULL, "-", "quantity = scale * column value (not 0)"},
+    {"references[].columns[].measure", STR, 0,            0, 0,       "scaled",      "scaled|relative|absolute", "-", "error measure: |d| / max |reference|, |d| / |reference| pointwise, or |d| in the quantity's unit"},
+    {"references[].columns[].norm", STR,  0,              0, 0,       "max",         "max|rms|end", "-", "which error the tolerance bounds: largest, root mean square, or at the last compared row"},
+    {"references[].columns[].tolerance", NUM, POS,        0, 0,       NULL,          NULL, "-", "bound on that error (absent: report only); exceeded, the run exits with status 6"},
 };
 
 #undef G

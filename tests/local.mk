@@ -26,3 +26,4 @@ include tests/equilibrium.mk
 EXTRA_DIST += tests/sf_test.h
 include tests/dynamics.mk
 include tests/paths.mk
+include tests/accuracy.mk
