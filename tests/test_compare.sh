@@ -73,7 +73,10 @@ grep -q "^# reference r: $tmp/data/mydata.csv" "$tmp/env/compare.tsv" 2>/dev/nul
 if [ -f "$src/../shared/data/fold1_elastica.csv" ]; then
     want=$(cd "$src/../shared/data" && pwd -P)/fold1_elastica.csv
     out=$(env -u SMOOTHFOLD_DATA "$bin" run "$fold1" -q -o "$tmp/up" --set output.shapes=0 2>&1); rc=$?
-    grep -q "^# reference elastica: $want" "$tmp/up/compare.tsv" 2>/dev/null && [ $rc -eq 0 ] &&
+    # compare resolved paths: shared/ may be reached through a symbolic link
+    got=$(sed -n 's/^# reference elastica: \([^ ]*\).*/\1/p' "$tmp/up/compare.tsv" 2>/dev/null | head -1)
+    [ -n "$got" ] && got=$(realpath "$got" 2>/dev/null)
+    [ "$got" = "$want" ] && [ $rc -eq 0 ] &&
         ok "studies/fold1.cfg finds fold1_elastica.csv in ../shared/data above it" || notok "search in shared/data: status $rc, $out"
 else
     ok "# SKIP no ../shared/data beside the source tree"
