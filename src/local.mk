@@ -21,3 +21,4 @@ src_libsmoothfold_a_SOURCES += src/stability.c src/stability.h
 src_libsmoothfold_a_SOURCES += src/dynamics.c src/dynamics.h
 src_smoothfold_SOURCES += src/run_dynamics.c src/run_dynamics.h
 EXTRA_DIST += plots/trajectory.gp
+src_libsmoothfold_a_SOURCES += src/outbuf.c src/outbuf.h

@@ -35,27 +35,6 @@ void sf_reaction_name(const sf_equil *q, int probe, int r, char *buf, size_t siz
     snprintf(buf, size, "row%d", r + 1);
 }
 
-static void tb_printf(sf_reactions *t, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void tb_printf(sf_reactions *t, const char *fmt, ...)
-{
-    if (t->oom) return;
-    for (;;) {
-        va_list ap;
-        va_start(ap, fmt);
-        size_t room = t->cap - t->n;
-        int k = vsnprintf(t->text ? t->text + t->n : NULL, t->text ? room : 0, fmt, ap);
-        va_end(ap);
-        if (k < 0) { t->oom = 1; return; }
-        if (t->text && (size_t)k < room) { t->n += (size_t)k; return; }
-        size_t cap = t->cap ? 2 * t->cap : 4096;
-        while (cap < t->n + (size_t)k + 1) cap *= 2;
-        char *ns = realloc(t->text, cap);
-        if (!ns) { t->oom = 1; return; }
-        t->text = ns;
-        t->cap = cap;
-    }
-}
-
 static double fin(double v) { return isfinite(v) ? v : 0.0; }
 
 void sf_reactions_init(sf_reactions *t, int probe)
@@ -67,9 +46,9 @@ void sf_reactions_init(sf_reactions *t, int probe)
 void sf_reactions_add(sf_reactions *t, const sf_equil *q, long point, const double *y,
                       double p, double load)
 {
-    tb_printf(t, "%ld\t%.12g\t%.12g", point, fin(p), fin(load));
-    for (int r = 0; r < q->nsup; r++) tb_printf(t, "\t%.12g", fin(-y[q->nq + q->nloop + r]) + 0.0);
-    tb_printf(t, "\n");
+    sf_outbuf_printf(&t->rows, "%ld\t%.12g\t%.12g", point, fin(p), fin(load));
+    for (int r = 0; r < q->nsup; r++) sf_outbuf_printf(&t->rows, "\t%.12g", fin(-y[q->nq + q->nloop + r]) + 0.0);
+    sf_outbuf_printf(&t->rows, "\n");
 }
 
 typedef struct fill_ctx {
@@ -94,20 +73,20 @@ static int fill(void *vctx, void *vf)
         fprintf(f, "\t%s", name);
     }
     fputc('\n', f);
-    if (c->t->n && fwrite(c->t->text, 1, c->t->n, f) != c->t->n) return SF_EIO;
+    if (c->t->rows.n && fwrite(c->t->rows.s, 1, c->t->rows.n, f) != c->t->rows.n) return SF_EIO;
     return ferror(f) ? SF_EIO : SF_OK;
 }
 
 int sf_reactions_write(const sf_reactions *t, const sf_equil *q, const char *path,
                        const char *header, sf_error *err)
 {
-    if (t->oom) return sf_fail(err, SF_ENOMEM, "out of memory");
+    if (t->rows.oom) return sf_fail(err, SF_ENOMEM, "out of memory");
     fill_ctx c = {t, q, header};
     return sf_write_atomic(path, fill, &c, err);
 }
 
 void sf_reactions_free(sf_reactions *t)
 {
-    free(t->text);
+    sf_outbuf_free(&t->rows);
     memset(t, 0, sizeof *t);
 }

@@ -14,6 +14,7 @@
 #include <stddef.h>
 
 #include "equilibrium.h"
+#include "outbuf.h"
 
 /* Reaction of each support/displacement row (q->nsup values) at a solved
  * state y of the problem q. */
@@ -26,9 +27,7 @@ void sf_reaction_name(const sf_equil *q, int probe, int r, char *buf, size_t siz
 
 /* The table along a path. */
 typedef struct sf_reactions {
-    char *text;
-    size_t n, cap;
-    int oom;
+    sf_outbuf rows;
     int probe;      /* probe of the displacement parameter (0-based), or -1 */
 } sf_reactions;
 

@@ -16,6 +16,7 @@
 #include "compare.h"
 #include "cont.h"
 #include "equilibrium.h"
+#include "outbuf.h"
 #include "run_dynamics.h"
 #include "flatstart.h"
 #include "mobility.h"
@@ -28,41 +29,6 @@
 #ifndef PACKAGE_VERSION
 #define PACKAGE_VERSION "0.1.0"
 #endif
-
-/* A growing text buffer. */
-typedef struct sbuf {
-    char *s;
-    size_t n, cap;
-    int oom;
-} sbuf;
-
-static void sb_printf(sbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void sb_printf(sbuf *b, const char *fmt, ...)
-{
-    if (b->oom) return;
-    for (;;) {
-        va_list ap;
-        va_start(ap, fmt);
-        size_t room = b->cap - b->n;
-        int k = vsnprintf(b->s ? b->s + b->n : NULL, b->s ? room : 0, fmt, ap);
-        va_end(ap);
-        if (k < 0) { b->oom = 1; return; }
-        if (b->s && (size_t)k < room) { b->n += (size_t)k; return; }
-        size_t cap = b->cap ? 2 * b->cap : 4096;
-        while (cap < b->n + (size_t)k + 1) cap *= 2;
-        char *ns = realloc(b->s, cap);
-        if (!ns) { b->oom = 1; return; }
-        b->s = ns;
-        b->cap = cap;
-    }
-}
-
-static int fill_sbuf(void *ctx, void *f)
-{
-    const sbuf *b = ctx;
-    if (b->n && fwrite(b->s, 1, b->n, (FILE *)f) != b->n) return SF_EIO;
-    return SF_OK;
-}
 
 /* Finite numbers only: a non-finite value never reaches an output file. */
 static double fin(double v) { return isfinite(v) ? v : 0.0; }
@@ -86,7 +52,7 @@ typedef struct run_ctx {
     sf_error *err;
     char dir[1024];
     sf_mpoint *probes;
-    sbuf rows, stats, special, header;
+    sf_outbuf rows, stats, special, header;
     sf_pvd pvd;
     int nshapes;
     double p_start, p_end, last_shape_p, shape_dp;
@@ -104,7 +70,7 @@ typedef struct run_ctx {
     int branch, nbranches, depth, max_depth;
     run_bp *bp;
     int nbp, capbp, nextbp;
-    sbuf bnotes;
+    sf_outbuf bnotes;
     int skip_start;       /* the next point repeats the last one (stage restart) */
     double seg_end;       /* end of the stage being followed (multi-stage loads) */
     sf_reactions reac;    /* reactions.tsv rows (supports, prescribed displacement) */
@@ -118,22 +84,6 @@ static double now(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-static int make_dir(const char *d, sf_error *err)
-{
-    char tmp[1024];
-    snprintf(tmp, sizeof tmp, "%s", d);
-    for (char *p = tmp + 1; *p; p++)
-        if (*p == '/') {
-            *p = '\0';
-            if (mkdir(tmp, 0777) != 0 && errno != EEXIST)
-                return sf_fail(err, SF_EIO, "%s: cannot create directory: %s", tmp, strerror(errno));
-            *p = '/';
-        }
-    if (mkdir(tmp, 0777) != 0 && errno != EEXIST)
-        return sf_fail(err, SF_EIO, "%s: cannot create directory: %s", tmp, strerror(errno));
-    return SF_OK;
 }
 
 /* Probe displacements of a state. */
@@ -156,7 +106,7 @@ static void branch_note(run_ctx *r, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
-    sb_printf(&r->bnotes, "# %s\n", line);
+    sf_outbuf_printf(&r->bnotes, "# %s\n", line);
     if (!r->opt->quiet) fprintf(stderr, "%s\n", line);
 }
 
@@ -202,18 +152,18 @@ static int remember_bp(run_ctx *r, const cont_point *pt)
 
 /* Stability columns (stable, morse, eig1..eigN) of a row; empty fields
  * where there is no value (stability off, or fewer eigenvalues). */
-static void stab_fields(run_ctx *r, sbuf *b)
+static void stab_fields(run_ctx *r, sf_outbuf *b)
 {
     const sf_stab_result *R = &r->stab.res;
     if (!r->do_stab) {
-        sb_printf(b, "\t\t");
-        for (int i = 0; i < r->nev; i++) sb_printf(b, "\t");
+        sf_outbuf_printf(b, "\t\t");
+        for (int i = 0; i < r->nev; i++) sf_outbuf_printf(b, "\t");
         return;
     }
-    sb_printf(b, "\t%d\t%d", R->stable, R->morse);
+    sf_outbuf_printf(b, "\t%d\t%d", R->stable, R->morse);
     for (int i = 0; i < r->nev; i++) {
-        if (i < R->neig && isfinite(R->eig[i])) sb_printf(b, "\t%.13g", R->eig[i]);
-        else sb_printf(b, "\t");
+        if (i < R->neig && isfinite(R->eig[i])) sf_outbuf_printf(b, "\t%.13g", R->eig[i]);
+        else sf_outbuf_printf(b, "\t");
     }
 }
 
@@ -252,41 +202,41 @@ static int on_point(const cont_point *pt, void *data)
         for (int j = 0; j < eq->nq; j++) d2 += pt->y[j] * pt->y[j];
         r->s_offset = sqrt(d2);
     }
-    sbuf *b = &r->rows;
+    sf_outbuf *b = &r->rows;
     double sarc = pt->s + r->s_offset;
-    sb_printf(b, "%ld\t%d\t%.12g\t%.12g\t%.12g", r->npoints, r->branch, fin(sarc), fin(pt->p),
+    sf_outbuf_printf(b, "%ld\t%d\t%.12g\t%.12g\t%.12g", r->npoints, r->branch, fin(sarc), fin(pt->p),
               fin(load));
     double u0[3] = {0, 0, 0};
     for (int i = 0; i < s->nprobes; i++) {
         double u[3];
         probe_disp(r, pt->y, i, u);
         if (i == 0) memcpy(u0, u, sizeof u);
-        sb_printf(b, "\t%.12g\t%.12g\t%.12g", fin(u[0]), fin(u[1]), fin(u[2]));
+        sf_outbuf_printf(b, "\t%.12g\t%.12g\t%.12g", fin(u[0]), fin(u[1]), fin(u[2]));
     }
-    sb_printf(b, "\t%.12g\t%.3g\t%.3g\t%.3g\t%d", fin(Pi), fin(fmax(rr, rt)), fin(rr), fin(rt),
+    sf_outbuf_printf(b, "\t%.12g\t%.3g\t%.3g\t%.3g\t%d", fin(Pi), fin(fmax(rr, rt)), fin(rr), fin(rt),
               pt->newton_iters);
     stab_fields(r, b);
-    sb_printf(b, "\t%s", pt->label);
-    for (int i = 0; i < m->nfolds; i++) sb_printf(b, "\t%.12g", fin(pt->y[m->qoff[i]]));
-    sb_printf(b, "\n");
+    sf_outbuf_printf(b, "\t%s", pt->label);
+    for (int i = 0; i < m->nfolds; i++) sf_outbuf_printf(b, "\t%.12g", fin(pt->y[m->qoff[i]]));
+    sf_outbuf_printf(b, "\n");
     if (eq->nsup) sf_reactions_add(&r->reac, eq, r->npoints, pt->y, pt->p, load);
     cont_stats last;
     memset(&last, 0, sizeof last);
     if (r->solver) cont_get_stats(r->solver, &last, NULL);
-    sb_printf(&r->stats, "%ld,%d,%.6g,%.6g,%d,%ld,%ld,%ld,%ld,%.6g\n", r->npoints, r->branch,
+    sf_outbuf_printf(&r->stats, "%ld,%d,%.6g,%.6g,%d,%ld,%ld,%ld,%ld,%.6g\n", r->npoints, r->branch,
               fin(pt->p), fin(pt->ds), pt->newton_iters, last.nres, last.njac, last.retries,
               last.nlocate, fin(last.wall));
     int special = pt->label[0] && strcmp(pt->label, "EP") != 0;
     if (special) {
-        sb_printf(&r->special, "%ld\t%d\t%s\t%.12g\t%.12g", r->npoints, r->branch, pt->label,
+        sf_outbuf_printf(&r->special, "%ld\t%d\t%s\t%.12g\t%.12g", r->npoints, r->branch, pt->label,
                   fin(pt->p), fin(sarc));
         for (int i = 0; i < s->nprobes; i++) {
             double u[3];
             probe_disp(r, pt->y, i, u);
-            sb_printf(&r->special, "\t%.12g\t%.12g\t%.12g", fin(u[0]), fin(u[1]), fin(u[2]));
+            sf_outbuf_printf(&r->special, "\t%.12g\t%.12g\t%.12g", fin(u[0]), fin(u[1]), fin(u[2]));
         }
         stab_fields(r, &r->special);
-        sb_printf(&r->special, "\t%.3g\n", fin(pt->loc_err));
+        sf_outbuf_printf(&r->special, "\t%.3g\n", fin(pt->loc_err));
         if (pt->loc_err > 1e-6 * (1.0 + fabs(pt->p)))
             branch_note(r, "%s at row %ld (branch %d, p = %.10g) located only to within %.3g in "
                         "arclength: the corrector left the branch while bisecting", pt->label,
@@ -386,7 +336,7 @@ static int switch_branches(run_ctx *r)
             r->branch = r->nbranches;
             r->depth = bp.depth + 1;
             r->s_offset = 0.0;
-            sb_printf(&r->rows, "\n\n");
+            sf_outbuf_printf(&r->rows, "\n\n");
             long first = r->npoints;
             int st = cont_start_tangent(cs, bp.y, bp.p, t, sgn * tp2);
             if (st == CONT_OK && !r->failed) st = cont_run(cs);
@@ -617,50 +567,50 @@ static int write_outputs(run_ctx *r)
     const sf_study *s = &r->sc->study;
     sf_error *err = r->err;
     char path[1200];
-    sbuf out = {0};
+    sf_outbuf out = {0};
 #define WRITE(name, buf)                                                           \
     do {                                                                           \
         if ((buf).oom) return sf_fail(err, SF_ENOMEM, "out of memory");            \
         snprintf(path, sizeof path, "%s/%s", r->dir, name);                        \
-        if (sf_write_atomic(path, fill_sbuf, &(buf), err)) return err->code;       \
+        if (sf_write_atomic(path, sf_outbuf_fill, &(buf), err)) return err->code;       \
     } while (0)
     /* branch.tsv: comments, column names, rows */
-    sb_printf(&out, "%s", r->header.s ? r->header.s : "");
-    if (r->bnotes.n) sb_printf(&out, "%.*s", (int)r->bnotes.n, r->bnotes.s);
+    sf_outbuf_printf(&out, "%s", r->header.s ? r->header.s : "");
+    if (r->bnotes.n) sf_outbuf_printf(&out, "%.*s", (int)r->bnotes.n, r->bnotes.s);
     if (r->do_stab)
-        sb_printf(&out, "# stability: %ld points by the dense LAPACK method, %ld by ARPACK "
+        sf_outbuf_printf(&out, "# stability: %ld points by the dense LAPACK method, %ld by ARPACK "
                         "(analysis.eigensolver)\n", r->neig_method[SF_EIG_DENSE],
                   r->neig_method[SF_EIG_ARPACK]);
-    sb_printf(&out, "# units: s, p, load: as the parameter (load factor, actuation factor, or m); "
+    sf_outbuf_printf(&out, "# units: s, p, load: as the parameter (load factor, actuation factor, or m); "
                     "probe*: m; energy: J; residual_rot: 1; residual_tra: m; eig*: J per unit "
                     "of the coordinates (rad, mode amplitude); theta*: rad\n");
     if (r->nbranches > 1)
-        sb_printf(&out, "# %d branches, each a block after two blank lines (gnuplot index 0..%d)\n",
+        sf_outbuf_printf(&out, "# %d branches, each a block after two blank lines (gnuplot index 0..%d)\n",
                   r->nbranches, r->nbranches - 1);
-    sb_printf(&out, "point\tbranch\ts\tp\tload");
+    sf_outbuf_printf(&out, "point\tbranch\ts\tp\tload");
     for (int i = 0; i < s->nprobes; i++)
-        sb_printf(&out, "\tprobe%d_ux\tprobe%d_uy\tprobe%d_uz", i + 1, i + 1, i + 1);
-    sb_printf(&out, "\tenergy\tresidual\tresidual_rot\tresidual_tra\tnewton\tstable\tmorse");
-    for (int i = 0; i < r->nev; i++) sb_printf(&out, "\teig%d", i + 1);
-    sb_printf(&out, "\ttype");
-    for (int i = 0; i < s->nfolds; i++) sb_printf(&out, "\ttheta%d", i + 1);
-    sb_printf(&out, "\n");
-    if (r->rows.n) sb_printf(&out, "%.*s", (int)r->rows.n, r->rows.s);
+        sf_outbuf_printf(&out, "\tprobe%d_ux\tprobe%d_uy\tprobe%d_uz", i + 1, i + 1, i + 1);
+    sf_outbuf_printf(&out, "\tenergy\tresidual\tresidual_rot\tresidual_tra\tnewton\tstable\tmorse");
+    for (int i = 0; i < r->nev; i++) sf_outbuf_printf(&out, "\teig%d", i + 1);
+    sf_outbuf_printf(&out, "\ttype");
+    for (int i = 0; i < s->nfolds; i++) sf_outbuf_printf(&out, "\ttheta%d", i + 1);
+    sf_outbuf_printf(&out, "\n");
+    if (r->rows.n) sf_outbuf_printf(&out, "%.*s", (int)r->rows.n, r->rows.s);
     WRITE("branch.tsv", out);
     out.n = 0;
-    sb_printf(&out, "# smoothfold %s per-step solver statistics for %s\n", PACKAGE_VERSION, s->name);
-    sb_printf(&out, "point,branch,p,ds,newton,residual_evals,jacobian_evals,retries,locate_points,wall_s\n");
-    if (r->stats.n) sb_printf(&out, "%.*s", (int)r->stats.n, r->stats.s);
+    sf_outbuf_printf(&out, "# smoothfold %s per-step solver statistics for %s\n", PACKAGE_VERSION, s->name);
+    sf_outbuf_printf(&out, "point,branch,p,ds,newton,residual_evals,jacobian_evals,retries,locate_points,wall_s\n");
+    if (r->stats.n) sf_outbuf_printf(&out, "%.*s", (int)r->stats.n, r->stats.s);
     WRITE("stats.csv", out);
     out.n = 0;
-    sb_printf(&out, "%s", r->header.s ? r->header.s : "");
-    sb_printf(&out, "point\tbranch\ttype\tp\ts");
+    sf_outbuf_printf(&out, "%s", r->header.s ? r->header.s : "");
+    sf_outbuf_printf(&out, "point\tbranch\ttype\tp\ts");
     for (int i = 0; i < s->nprobes; i++)
-        sb_printf(&out, "\tprobe%d_ux\tprobe%d_uy\tprobe%d_uz", i + 1, i + 1, i + 1);
-    sb_printf(&out, "\tstable\tmorse");
-    for (int i = 0; i < r->nev; i++) sb_printf(&out, "\teig%d", i + 1);
-    sb_printf(&out, "\tloc_err\n");
-    if (r->special.n) sb_printf(&out, "%.*s", (int)r->special.n, r->special.s);
+        sf_outbuf_printf(&out, "\tprobe%d_ux\tprobe%d_uy\tprobe%d_uz", i + 1, i + 1, i + 1);
+    sf_outbuf_printf(&out, "\tstable\tmorse");
+    for (int i = 0; i < r->nev; i++) sf_outbuf_printf(&out, "\teig%d", i + 1);
+    sf_outbuf_printf(&out, "\tloc_err\n");
+    if (r->special.n) sf_outbuf_printf(&out, "%.*s", (int)r->special.n, r->special.s);
     WRITE("special.tsv", out);
     free(out.s);
 #undef WRITE
@@ -711,19 +661,19 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     char shapes[1100];
     snprintf(shapes, sizeof shapes, "%s/shapes", r.dir);
     if (!rc) rc = sf_compare_open(&r.cmp, &sc.study, err);   /* bad reference files: before any output */
-    if (!rc) rc = make_dir(r.dir, err);
-    if (!rc && sc.study.shapes > 0) rc = make_dir(shapes, err);
+    if (!rc) rc = sf_mkdir_p(r.dir, err);
+    if (!rc && sc.study.shapes > 0) rc = sf_mkdir_p(shapes, err);
     if (!rc) {
         char pvd[1100];
         snprintf(pvd, sizeof pvd, "%s/shapes.pvd", r.dir);
         sf_pvd_init(&r.pvd, pvd);
-        sb_printf(&r.header, "# smoothfold %s: %s, analysis %s\n", PACKAGE_VERSION,
+        sf_outbuf_printf(&r.header, "# smoothfold %s: %s, analysis %s\n", PACKAGE_VERSION,
                   sc.study.name, sc.study.analysis_type);
         rc = run_equilibrium(&r);
         if (rc == SF_ENUMERIC && r.npoints > 0) {
             /* keep the path up to where it stopped: complete files whose
              * header says why it stopped; the exit status stays non-zero */
-            sb_printf(&r.header, "# STOPPED EARLY: %s\n", err->msg);
+            sf_outbuf_printf(&r.header, "# STOPPED EARLY: %s\n", err->msg);
             sf_error keep = *err;
             sf_error_clear(err);
             if (write_outputs(&r) == SF_OK) *err = keep;

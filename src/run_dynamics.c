@@ -5,6 +5,8 @@
  * plot of probes and fold angles against time (plots/trajectory.gp). */
 #include "run_dynamics.h"
 
+#include "outbuf.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -22,41 +24,6 @@
 #define PACKAGE_VERSION "0.1.0"
 #endif
 
-/* A growing text buffer. */
-typedef struct tbuf {
-    char *s;
-    size_t n, cap;
-    int oom;
-} tbuf;
-
-static void tb_printf(tbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void tb_printf(tbuf *b, const char *fmt, ...)
-{
-    if (b->oom) return;
-    for (;;) {
-        va_list ap;
-        va_start(ap, fmt);
-        size_t room = b->cap - b->n;
-        int k = vsnprintf(b->s ? b->s + b->n : NULL, b->s ? room : 0, fmt, ap);
-        va_end(ap);
-        if (k < 0) { b->oom = 1; return; }
-        if (b->s && (size_t)k < room) { b->n += (size_t)k; return; }
-        size_t cap = b->cap ? 2 * b->cap : 8192;
-        while (cap < b->n + (size_t)k + 1) cap *= 2;
-        char *ns = realloc(b->s, cap);
-        if (!ns) { b->oom = 1; return; }
-        b->s = ns;
-        b->cap = cap;
-    }
-}
-
-static int fill_tbuf(void *ctx, void *f)
-{
-    const tbuf *b = ctx;
-    if (b->n && fwrite(b->s, 1, b->n, (FILE *)f) != b->n) return SF_EIO;
-    return SF_OK;
-}
-
 static double fin(double v) { return isfinite(v) ? v : 0.0; }
 
 static double now(void)
@@ -66,29 +33,13 @@ static double now(void)
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-static int make_dir(const char *d, sf_error *err)
-{
-    char tmp[1024];
-    snprintf(tmp, sizeof tmp, "%s", d);
-    for (char *p = tmp + 1; *p; p++)
-        if (*p == '/') {
-            *p = '\0';
-            if (mkdir(tmp, 0777) != 0 && errno != EEXIST)
-                return sf_fail(err, SF_EIO, "%s: cannot create directory: %s", tmp, strerror(errno));
-            *p = '/';
-        }
-    if (mkdir(tmp, 0777) != 0 && errno != EEXIST)
-        return sf_fail(err, SF_EIO, "%s: cannot create directory: %s", tmp, strerror(errno));
-    return SF_OK;
-}
-
 typedef struct traj_ctx {
     sf_dyn d;
     const sf_options *opt;
     sf_error *err;
     char dir[1024];
     sf_mpoint *probes;
-    tbuf rows, stats, header;
+    sf_outbuf rows, stats, header;
     sf_pvd pvd;
     int nshapes, ishape;
     long nrows;
@@ -105,7 +56,7 @@ static int record(traj_ctx *r)
     double Pi, T, drift, speed;
     sf_dyn_report(d, &Pi, &T, &drift, &speed);
     if (drift > r->max_drift) r->max_drift = drift;
-    tb_printf(&r->rows, "%ld\t%.12g\t%.12g\t%.12g", d->stats.steps, fin(d->t), fin(d->p),
+    sf_outbuf_printf(&r->rows, "%ld\t%.12g\t%.12g\t%.12g", d->stats.steps, fin(d->t), fin(d->p),
               fin(d->load));
     sf_kin_eval(m, d->y, 0, &d->eq.k);
     double uz0 = 0.0;
@@ -114,13 +65,13 @@ static int record(traj_ctx *r)
         sf_point_eval(m, &d->eq.k, &r->probes[i], x, NULL);
         double u[3] = {x[0] - r->probes[i].X[0], x[1] - r->probes[i].X[1], x[2]};
         if (i == 0) uz0 = u[2];
-        tb_printf(&r->rows, "\t%.12g\t%.12g\t%.12g", fin(u[0]), fin(u[1]), fin(u[2]));
+        sf_outbuf_printf(&r->rows, "\t%.12g\t%.12g\t%.12g", fin(u[0]), fin(u[1]), fin(u[2]));
     }
-    tb_printf(&r->rows, "\t%.12g\t%.12g\t%.3g\t%.6g", fin(Pi), fin(T), fin(drift), fin(speed));
-    for (int i = 0; i < m->nfolds; i++) tb_printf(&r->rows, "\t%.12g", fin(d->y[m->qoff[i]]));
-    tb_printf(&r->rows, "\n");
+    sf_outbuf_printf(&r->rows, "\t%.12g\t%.12g\t%.3g\t%.6g", fin(Pi), fin(T), fin(drift), fin(speed));
+    for (int i = 0; i < m->nfolds; i++) sf_outbuf_printf(&r->rows, "\t%.12g", fin(d->y[m->qoff[i]]));
+    sf_outbuf_printf(&r->rows, "\n");
     const sf_dyn_stats *st = &d->stats;
-    tb_printf(&r->stats, "%ld,%.9g,%.6g,%d,%ld,%ld,%ld,%ld,%ld,%.6g\n", st->steps, fin(d->t),
+    sf_outbuf_printf(&r->stats, "%ld,%.9g,%.6g,%d,%ld,%ld,%ld,%ld,%ld,%.6g\n", st->steps, fin(d->t),
               fin(st->h), st->order, st->nres + st->nchecks, st->njac, st->nni, st->netf, st->ncfn, fin(st->wall));
     /* shapes at k duration / N, k = 0..N, each at the first step at or
      * past its time, and the last state */
@@ -151,30 +102,30 @@ static int write_outputs(traj_ctx *r)
     const sf_study *s = r->d.m->study;
     sf_error *err = r->err;
     char path[1200];
-    tbuf out = {0};
+    sf_outbuf out = {0};
 #define WRITE(name, buf)                                                           \
     do {                                                                           \
         if ((buf).oom) { free(out.s); return sf_fail(err, SF_ENOMEM, "out of memory"); } \
         snprintf(path, sizeof path, "%s/%s", r->dir, name);                        \
-        if (sf_write_atomic(path, fill_tbuf, &(buf), err)) { free(out.s); return err->code; } \
+        if (sf_write_atomic(path, sf_outbuf_fill, &(buf), err)) { free(out.s); return err->code; } \
     } while (0)
-    tb_printf(&out, "%s", r->header.s ? r->header.s : "");
-    tb_printf(&out, "# units: t: s; p, load: as the parameter; probe*: m; energy, kinetic: J; "
+    sf_outbuf_printf(&out, "%s", r->header.s ? r->header.s : "");
+    sf_outbuf_printf(&out, "# units: t: s; p, load: as the parameter; probe*: m; energy, kinetic: J; "
                     "drift: 1 (rotation rows) or m; speed: rad/s; theta*: rad\n");
-    tb_printf(&out, "step\tt\tp\tload");
+    sf_outbuf_printf(&out, "step\tt\tp\tload");
     for (int i = 0; i < s->nprobes; i++)
-        tb_printf(&out, "\tprobe%d_ux\tprobe%d_uy\tprobe%d_uz", i + 1, i + 1, i + 1);
-    tb_printf(&out, "\tenergy\tkinetic\tdrift\tspeed");
-    for (int i = 0; i < s->nfolds; i++) tb_printf(&out, "\ttheta%d", i + 1);
-    tb_printf(&out, "\n");
-    if (r->rows.n) tb_printf(&out, "%.*s", (int)r->rows.n, r->rows.s);
+        sf_outbuf_printf(&out, "\tprobe%d_ux\tprobe%d_uy\tprobe%d_uz", i + 1, i + 1, i + 1);
+    sf_outbuf_printf(&out, "\tenergy\tkinetic\tdrift\tspeed");
+    for (int i = 0; i < s->nfolds; i++) sf_outbuf_printf(&out, "\ttheta%d", i + 1);
+    sf_outbuf_printf(&out, "\n");
+    if (r->rows.n) sf_outbuf_printf(&out, "%.*s", (int)r->rows.n, r->rows.s);
     WRITE("trajectory.tsv", out);
     out.n = 0;
-    tb_printf(&out, "# smoothfold %s integrator statistics for %s (counts cumulative, "
+    sf_outbuf_printf(&out, "# smoothfold %s integrator statistics for %s (counts cumulative, "
                     "including IDACalcIC)\n", PACKAGE_VERSION, s->name);
-    tb_printf(&out, "step,t,h,order,residual_evals,jacobian_evals,newton_iters,"
+    sf_outbuf_printf(&out, "step,t,h,order,residual_evals,jacobian_evals,newton_iters,"
                     "error_test_fails,convergence_fails,wall_s\n");
-    if (r->stats.n) tb_printf(&out, "%.*s", (int)r->stats.n, r->stats.s);
+    if (r->stats.n) sf_outbuf_printf(&out, "%.*s", (int)r->stats.n, r->stats.s);
     WRITE("stats.csv", out);
     free(out.s);
 #undef WRITE
@@ -203,7 +154,7 @@ static int integrate(traj_ctx *r, sf_scene *sc)
     /* the directory only once the trajectory has started */
     char shapes[1100];
     snprintf(shapes, sizeof shapes, "%s/shapes", r->dir);
-    if (make_dir(r->dir, err) || (r->nshapes > 0 && make_dir(shapes, err))) return err->code;
+    if (sf_mkdir_p(r->dir, err) || (r->nshapes > 0 && sf_mkdir_p(shapes, err))) return err->code;
     if (record(r)) return err->code;
     while (!r->d.done) {
         if (sf_dyn_step(&r->d, err)) return err->code;
@@ -226,12 +177,12 @@ int sf_run_dynamics(sf_scene *sc, const sf_options *o, sf_error *err)
     sf_pvd_init(&r.pvd, pvd);
     int rc = SF_OK;
     {
-        tb_printf(&r.header, "# smoothfold %s: %s, analysis dynamics\n", PACKAGE_VERSION,
+        sf_outbuf_printf(&r.header, "# smoothfold %s: %s, analysis dynamics\n", PACKAGE_VERSION,
                   sc->study.name);
         rc = integrate(&r, sc);
         if (rc == SF_ENUMERIC && r.nrows > 0) {
             /* keep the trajectory up to where it stopped; status stays non-zero */
-            tb_printf(&r.header, "# STOPPED EARLY: %s\n", err->msg);
+            sf_outbuf_printf(&r.header, "# STOPPED EARLY: %s\n", err->msg);
             sf_error keep = *err;
             sf_error_clear(err);
             if (write_outputs(&r) == SF_OK) *err = keep;

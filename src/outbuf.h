@@ -1,0 +1,26 @@
+/* outbuf.h - helpers for writing output files: a growing text buffer whose
+ * contents sf_write_atomic writes in one go, and mkdir -p.  Used by the
+ * run, dynamics and reactions writers. */
+#ifndef SF_OUTBUF_H
+#define SF_OUTBUF_H
+
+#include <stddef.h>
+
+#include "sf_error.h"
+
+typedef struct sf_outbuf {
+    char *s;
+    size_t n, cap;
+    int oom;        /* an allocation failed: later printfs do nothing */
+} sf_outbuf;
+
+/* Append formatted text (grows the buffer; sets oom on failure). */
+void sf_outbuf_printf(sf_outbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Fill callback for sf_write_atomic: ctx is an sf_outbuf, f a FILE *. */
+int sf_outbuf_fill(void *ctx, void *f);
+void sf_outbuf_free(sf_outbuf *b);
+
+/* Create directory d and its parents (existing ones are fine). */
+int sf_mkdir_p(const char *d, sf_error *err);
+
+#endif
