@@ -681,6 +681,10 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
         } else if (!rc) {
             cont_get_stats(r.solver, NULL, &r.tot);
             if (r.cmp) {
+                /* solve at fixed p in the whole path's parametrisation
+                 * (every stage ramps over its own interval), not in the
+                 * one-stage ramp the last segment was followed in */
+                r.eq.ramp_stage = -1;
                 rc = sf_compare_eval(r.cmp, &r.eq, r.probes, r.solver, err);
                 r.compared = !rc;
             }
