@@ -637,7 +637,10 @@ static int correct(cont_solver *s, double *x, const double *c, const double *xa,
     s->stp.nlinsolve += nni;
     if (nit) *nit = (int)nni;
     double *u = N_VGetArrayPointer(s->u);
-    int ok = flag >= 0 && all_finite(u, m);
+    /* KIN_LINESEARCH_NONCONV: the line search found no decrease; next to a
+     * singular point that happens at a residual already at the tolerance,
+     * so it is judged by the final check below like a stagnation */
+    int ok = (flag >= 0 || flag == KIN_LINESEARCH_NONCONV) && all_finite(u, m);
     if (ok && nni >= 1 && s->xtol > 0) {
         /* a small residual is not enough where F is flat (near singular
          * points): also require a small last Newton step */
@@ -665,7 +668,13 @@ static int correct(cont_solver *s, double *x, const double *c, const double *xa,
             }
             /* KIN_STEP_LT_STPTOL: stagnation; accept only near the tolerance */
             double lim = flag == KIN_STEP_LT_STPTOL ? 100.0 * s->ftol : 10.0 * s->ftol;
-            if (fs > lim) {
+            if (flag == KIN_LINESEARCH_NONCONV && fs > lim) {
+                char *name = KINGetReturnFlagName(flag);
+                why(s, "KINSOL %s after %ld iterations, scaled residual %.3g > %.3g",
+                    name ? name : "failure", nni, fs, lim);
+                free(name);
+                ok = 0;
+            } else if (fs > lim) {
                 why(s, "Newton stagnated with scaled residual %.3g > %.3g", fs, lim);
                 ok = 0;
             }

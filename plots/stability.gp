@@ -28,7 +28,7 @@ cn(name) = sum [i = 1:words(header)] (word(header, i) eq name ? i : 0)
 cx = cn(col); cp = cn("p"); cs = cn("stable"); ct = cn("type")
 if (cx == 0) { print sprintf("stability.gp: %s has no column %s", file, col); exit status 1 }
 stab(v) = (cs > 0 && strcol(cs) eq "0") ? NaN : v
-spec(v) = (strcol(ct) eq "LP" || strcol(ct) eq "BP") ? v : NaN
+spec(v) = (strcol(ct) eq "LP" || strcol(ct)[1:2] eq "BP") ? v : NaN
 do for [t in "pngcairo pdfcairo"] {
     if (t eq "pngcairo") { set terminal pngcairo size 1000,650 enhanced font ",11" dashlength 2; set output dir . "/stability.png" }
     else { set terminal pdfcairo size 6.5in,4.2in enhanced font ",10" dashlength 2; set output dir . "/stability.pdf" }

@@ -77,6 +77,14 @@ typedef struct run_ctx {
     sf_compare *cmp;      /* reference data of the study (compare.h), or NULL */
     int compared;         /* comparison done */
     cont_stats tot;       /* solver totals of the path (before the comparison) */
+    /* Morse-index check between consecutive points of a branch (locate
+     * crossings the engine's LP/BP tests cannot see, see check_morse) */
+    cont_solver *aux;     /* fixed-p solves while locating (not the path's solver) */
+    int prev_ok, prev_lo, prev_hi, prev_dim, prev_neig;
+    long prev_row;
+    double prev_p, prev_sarc;
+    double *prev_y, *prev_eig, *ya, *yb, *yt;
+    int in_check;
 } run_ctx;
 
 static double now(void)
@@ -167,6 +175,283 @@ static void stab_fields(run_ctx *r, sf_outbuf *b)
     }
 }
 
+static int write_point(run_ctx *r, const cont_point *pt);
+
+/* ---------------------------------------------------------------------- */
+/* Stability changes the LP/BP tests miss                                 */
+/* ---------------------------------------------------------------------- */
+/* The engine finds a branch point from a sign change of det [Jy Fp; t^T]
+ * between two points, so it misses two eigenvalues of H_c crossing zero in
+ * one step: a double eigenvalue of a symmetric sheet (the buckling modes of
+ * square4 come in pairs), or two simple crossings close together.  The
+ * Morse index sees them.  Between consecutive points a and b of a branch,
+ * the index may change by the crossings at a or b themselves (an LP or BP
+ * the engine located has one eigenvalue at zero, counted either way); any
+ * further change is located here, eigenvalue by eigenvalue, by regula falsi
+ * (Illinois) on p with fixed-p solves, and written as a row of its own:
+ * type BP for one eigenvalue, BPk for k eigenvalues crossing together (a
+ * k-dimensional kernel: a multiple branch point, whose branches are not
+ * followed).  A change that cannot be located is stated in a note. */
+
+/* Bounds on the index at a point: lo..hi negative eigenvalues, allowing
+ * for the one at zero of an LP/BP the engine located. */
+static void morse_bounds(const sf_stab_result *R, const cont_point *pt, int at_bp, int *lo, int *hi)
+{
+    /* the index from the signs of the eigenvalues when all the negative
+     * ones are among those computed (ARPACK's inertia count and its
+     * eigenvalues may disagree about one at round-off distance from 0) */
+    int neg = R->morse;
+    if (R->neig > R->morse) {
+        neg = 0;
+        for (int i = 0; i < R->neig; i++) neg += R->eig[i] < 0;
+    }
+    *lo = *hi = neg;
+    int located = at_bp || strcmp(pt->label, "LP") == 0 || strcmp(pt->label, "BP") == 0;
+    if (located && R->neig > 0) {
+        int k = 0;
+        for (int i = 1; i < R->neig; i++)
+            if (fabs(R->eig[i]) < fabs(R->eig[k])) k = i;
+        if (R->eig[k] < 0) (*lo)--;
+        else (*hi)++;
+    }
+}
+
+static void remember_prev(run_ctx *r, const cont_point *pt)
+{
+    const sf_stab_result *R = &r->stab.res;
+    int n = r->eq.n;
+    if (!r->prev_y) {
+        r->prev_y = malloc(sizeof(double) * (size_t)(4 * n + r->nev + 1));
+        if (!r->prev_y) { r->prev_ok = 0; return; }
+        r->ya = r->prev_y + n;
+        r->yb = r->ya + n;
+        r->yt = r->yb + n;
+        r->prev_eig = r->yt + n;
+    }
+    memcpy(r->prev_y, pt->y, sizeof(double) * (size_t)n);
+    r->prev_p = pt->p;
+    r->prev_sarc = pt->s + r->s_offset;
+    /* the first point of a switched branch is the branch point it starts from */
+    morse_bounds(R, pt, pt->index == 0 && r->branch > 1, &r->prev_lo, &r->prev_hi);
+    r->prev_dim = R->dim;
+    r->prev_neig = R->neig;
+    for (int i = 0; i < R->neig && i < r->nev; i++) r->prev_eig[i] = R->eig[i];
+    r->prev_row = r->npoints - 1;
+    r->prev_ok = 1;
+}
+
+/* Solve at fixed p from the guess interpolated between the bracket ends
+ * (ya at pa, yb at pb) into yt, then its stability.  Fails (returns 1)
+ * when Newton fails or leaves that stretch of the branch. */
+static int solve_at(run_ctx *r, double pa, double pb, double p)
+{
+    int n = r->eq.n;
+    double t = (p - pa) / (pb - pa), span = 0.0, dist = 0.0;
+    for (int i = 0; i < n; i++) {
+        r->yt[i] = r->ya[i] + t * (r->yb[i] - r->ya[i]);
+        span = fmax(span, fabs(r->yb[i] - r->ya[i]) * r->eq.yscale[i]);
+    }
+    const double *g = r->yt;    /* the guess */
+    double *y = malloc(sizeof(double) * (size_t)n);
+    if (!y) return 1;
+    memcpy(y, g, sizeof(double) * (size_t)n);
+    int ok = cont_solve_fixed(r->aux, y, p) == CONT_OK;
+    for (int i = 0; ok && i < n; i++) {
+        if (!isfinite(y[i])) ok = 0;
+        else dist = fmax(dist, fabs(y[i] - g[i]) * r->eq.yscale[i]);
+    }
+    if (ok && dist > span + 1e-8) ok = 0;
+    if (ok) memcpy(r->yt, y, sizeof(double) * (size_t)n);
+    free(y);
+    if (!ok) return 1;
+    sf_error e;
+    sf_error_clear(&e);
+    return sf_stab_eval(&r->stab, &r->eq, r->yt, p, &e) != SF_OK;
+}
+
+/* The j-th smallest eigenvalue (1-based) at the last solve_at, or, when
+ * the method did not compute that many, the sign of the index test. */
+static double eig_j(const run_ctx *r, int j, int *exact)
+{
+    const sf_stab_result *R = &r->stab.res;
+    *exact = j <= R->neig;
+    if (*exact) return R->eig[j - 1];
+    return R->morse >= j ? -1.0 : 1.0;
+}
+
+/* Locate the zero of the j-th eigenvalue (1-based) between the previous
+ * point a (r->prev_y, r->prev_p) and b (yb, pb): regula falsi with the
+ * Illinois modification on the eigenvalue where the method computed it,
+ * bisection on the index otherwise.  Leaves the solution in r->yt and its
+ * p in *p_out; returns the final bracket width in p, or -1 when the zero
+ * cannot be located. */
+static double locate_eig(run_ctx *r, const double *yb, double pb, int j, double *p_out)
+{
+    int n = r->eq.n;
+    double pa = r->prev_p, pb0 = pb;
+    memcpy(r->ya, r->prev_y, sizeof(double) * (size_t)n);
+    memcpy(r->yb, yb, sizeof(double) * (size_t)n);
+    /* at a the eigenvalue has not crossed yet: negative iff j <= lo(a) */
+    int known_a = j <= r->prev_neig, known_b = 0, side = 0;
+    double fa = known_a ? r->prev_eig[j - 1] : (j <= r->prev_lo ? -1.0 : 1.0);
+    double fb = fa > 0 ? -1.0 : 1.0;
+    double tol = 1e-10 * (1.0 + fabs(pa) + fabs(pb));
+    int hit = 0;
+    for (int it = 0; it < 100 && fabs(pb - pa) > tol; it++) {
+        double p = known_a && known_b && fa != fb ? pb - fb * (pb - pa) / (fb - fa) : 0.5 * (pa + pb);
+        if (!(p > fmin(pa, pb) && p < fmax(pa, pb))) p = 0.5 * (pa + pb);
+        int failed = solve_at(r, pa, pb, p);
+        if (failed && p != 0.5 * (pa + pb)) {
+            /* the secant point may sit on the singular point itself */
+            p = 0.5 * (pa + pb);
+            failed = solve_at(r, pa, pb, p);
+        }
+        if (failed) {
+            /* Newton at fixed p fails next to a singular point (the
+             * Jacobian is singular where the eigenvalues vanish): keep
+             * the bracket reached, if any, with the end nearer the zero */
+            if (side == 0) return -1.0;
+            int use_a = side == -1 && !(known_a && known_b && fabs(fb) < fabs(fa));
+            if (known_a && known_b) use_a = fabs(fa) <= fabs(fb);
+            if (use_a && fabs(pa - r->prev_p) == 0.0) use_a = 0;
+            if (!use_a && pb == pb0) use_a = 1;
+            memcpy(r->yt, use_a ? r->ya : r->yb, sizeof(double) * (size_t)n);
+            *p_out = use_a ? pa : pb;
+            sf_error e;
+            sf_error_clear(&e);
+            if (sf_stab_eval(&r->stab, &r->eq, r->yt, *p_out, &e)) return -1.0;
+            return fabs(pb - pa);
+        }
+        int exact;
+        double f = eig_j(r, j, &exact);
+        if (f == 0.0) { pa = pb = p; hit = 1; break; }
+        if ((f > 0) == (fa > 0)) {
+            pa = p; fa = f; known_a = exact;
+            memcpy(r->ya, r->yt, sizeof(double) * (size_t)n);
+            if (side == -1) fb *= 0.5;   /* the same end moved twice: Illinois */
+            side = -1;
+        } else {
+            pb = p; fb = f; known_b = exact;
+            memcpy(r->yb, r->yt, sizeof(double) * (size_t)n);
+            if (side == 1) fa *= 0.5;
+            side = 1;
+        }
+    }
+    *p_out = 0.5 * (pa + pb);
+    if (!hit && solve_at(r, pa, pb, *p_out)) return -1.0;
+    return fabs(pb - pa);
+}
+
+static int check_morse(run_ctx *r, const cont_point *pt)
+{
+    const sf_stab_result *R = &r->stab.res;
+    int lo, hi;
+    morse_bounds(R, pt, 0, &lo, &hi);
+    if (!r->prev_ok || r->branch_first || r->in_check || R->dim != r->prev_dim) return 0;
+    int up = lo - r->prev_hi, down = r->prev_lo - hi;
+    if (up <= 0 && down <= 0) return 0;
+    int j0 = up > 0 ? r->prev_hi + 1 : hi + 1, j1 = up > 0 ? lo : r->prev_lo;
+    int n = r->eq.n, morse_b = R->morse;
+    long row_a = r->prev_row;
+    double pa = r->prev_p, pb = pt->p, sa = r->prev_sarc, sb = pt->s + r->s_offset;
+    if (fabs(pb - pa) <= 1e-12 * (1.0 + fabs(pa))) {
+        branch_note(r, "stability changes between rows %ld and %ld (branch %d, p = %.10g): the "
+                    "Morse index goes from %d to %d, not located (p does not change there)",
+                    row_a, r->npoints, r->branch, pb, r->prev_lo, morse_b);
+        return 0;
+    }
+    if (!r->aux) {
+        if (sf_equil_create_solver(&r->eq, &r->aux) != CONT_OK) return 0;
+        cont_set_newton(r->aux, r->sc->study.tolerance > 0 ? r->sc->study.tolerance : 1e-10, 12, 0);
+    }
+    /* every crossing eigenvalue, then the crossings grouped by place */
+    int nc = j1 - j0 + 1;
+    double *pc = malloc(sizeof(double) * (size_t)nc * (size_t)(n + 2));
+    if (!pc) return sf_fail(r->err, SF_ENOMEM, "out of memory");
+    double *wc = pc + nc, *yc = wc + nc;
+    int nloc = 0;
+    r->in_check = 1;
+    for (int j = j0; j <= j1; j++) {
+        double w = locate_eig(r, pt->y, pb, j, &pc[nloc]);
+        if (w < 0) continue;
+        wc[nloc] = w;
+        memcpy(yc + (size_t)nloc * n, r->yt, sizeof(double) * (size_t)n);
+        nloc++;
+    }
+    /* sort by distance from a */
+    for (int i = 1; i < nloc; i++)
+        for (int k = i; k > 0 && fabs(pc[k] - pa) < fabs(pc[k - 1] - pa); k--) {
+            double t = pc[k]; pc[k] = pc[k - 1]; pc[k - 1] = t;
+            t = wc[k]; wc[k] = wc[k - 1]; wc[k - 1] = t;
+            for (int i2 = 0; i2 < n; i2++) {
+                t = yc[(size_t)k * n + i2];
+                yc[(size_t)k * n + i2] = yc[(size_t)(k - 1) * n + i2];
+                yc[(size_t)(k - 1) * n + i2] = t;
+            }
+        }
+    int rc = SF_OK;
+    for (int i = 0; i < nloc && !rc;) {
+        int k = i + 1;
+        while (k < nloc && fabs(pc[k] - pc[i]) <= fmax(1e-7 * (1.0 + fabs(pc[i])), wc[i] + wc[k])) k++;
+        int mult = k - i;
+        /* the group's point: the solution of its first eigenvalue */
+        const double *y = yc + (size_t)i * n;
+        sf_error e;
+        sf_error_clear(&e);
+        if (sf_stab_eval(&r->stab, &r->eq, y, pc[i], &e)) { i = k; continue; }
+        r->neig_method[r->stab.res.method]++;
+        cont_point q;
+        memset(&q, 0, sizeof q);
+        double t = (pc[i] - pa) / (pb - pa), sarc = sa + t * (sb - sa);
+        q.index = -1;
+        q.y = y;
+        q.p = pc[i];
+        q.s = sarc - r->s_offset;
+        q.ds = sarc - sa;
+        q.loc_err = fabs(wc[i] / (pb - pa) * (sb - sa));
+        if (mult == 1) snprintf(q.label, sizeof q.label, "BP");
+        else snprintf(q.label, sizeof q.label, "BP%d", mult);
+        /* a simple one: the secant of the branch as its tangent, for switching */
+        double *ty = NULL;
+        if (mult == 1 && (ty = malloc(sizeof(double) * (size_t)n))) {
+            double nn = (pb - pa) * (pb - pa);
+            for (int i2 = 0; i2 < n; i2++) {
+                ty[i2] = pt->y[i2] - r->prev_y[i2];
+                if (i2 < r->eq.nq) nn += ty[i2] * ty[i2];
+            }
+            nn = sqrt(nn);
+            for (int i2 = 0; i2 < n; i2++) ty[i2] /= nn;
+            q.ty = ty;
+            q.tp = (pb - pa) / nn;
+        }
+        long row = r->npoints;
+        rc = write_point(r, &q);
+        free(ty);
+        branch_note(r, "%s at row %ld (branch %d, p = %.10g) located from the Morse index "
+                    "(%d eigenvalue%s of H_c cross%s zero there, between rows %ld and %ld, in one "
+                    "step of the path; the determinant test cannot see %s)%s; located to within "
+                    "%.3g in arclength%s", q.label, row,
+                    r->branch, q.p, mult, mult > 1 ? "s" : "", mult > 1 ? "" : "es", row_a,
+                    row + 1, mult > 1 ? "a multiple one" : "two crossings in one step",
+                    mult > 1 ? "; a multiple branch point: its branches are not followed" : "",
+                    q.loc_err, q.loc_err > 1e-6 * (1.0 + fabs(q.p))
+                                   ? " (Newton at fixed p does not converge closer to the singular point)"
+                                   : "");
+        i = k;
+    }
+    if (nloc < nc)
+        branch_note(r, "stability changes between rows %ld and %ld (branch %d, p from %.10g to "
+                    "%.10g): %d of %d eigenvalue crossings could not be located (Newton at fixed "
+                    "p failed or left the branch)", row_a, r->npoints, r->branch, pa, pb,
+                    nc - nloc, nc);
+    free(pc);
+    r->in_check = 0;
+    if (rc) return rc;
+    /* back to the point itself */
+    if (sf_stab_eval(&r->stab, &r->eq, pt->y, pt->p, r->err)) return r->err->code;
+    return SF_OK;
+}
+
 static int on_point(const cont_point *pt, void *data)
 {
     run_ctx *r = data;
@@ -183,16 +468,28 @@ static int on_point(const cont_point *pt, void *data)
         pt = &relabel;
     }
     sf_equil *eq = &r->eq;
-    const sf_model *m = eq->m;
-    const sf_study *s = m->study;
-    double Pi, rr, rt;
     if (r->do_stab) {
         if (sf_stab_eval(&r->stab, eq, pt->y, pt->p, r->err)) {
             r->failed = 1;
             return 1;
         }
         r->neig_method[r->stab.res.method]++;
+        if (check_morse(r, pt)) {
+            r->failed = 1;
+            return 1;
+        }
     }
+    return write_point(r, pt);
+}
+
+/* One row of branch.tsv (and of special.tsv, stats.csv, the shapes, the
+ * comparison) for the solved point pt, whose stability is r->stab.res. */
+static int write_point(run_ctx *r, const cont_point *pt)
+{
+    sf_equil *eq = &r->eq;
+    const sf_model *m = eq->m;
+    const sf_study *s = m->study;
+    double Pi, rr, rt;
     sf_equil_report(eq, pt->y, pt->p, &Pi, &rr, &rt);
     double load = eq->param == SF_PARAM_LOAD ? pt->p : eq->load;
     if (r->s_offset < 0) {
@@ -237,7 +534,7 @@ static int on_point(const cont_point *pt, void *data)
         }
         stab_fields(r, &r->special);
         sf_outbuf_printf(&r->special, "\t%.3g\n", fin(pt->loc_err));
-        if (pt->loc_err > 1e-6 * (1.0 + fabs(pt->p)))
+        if (pt->index >= 0 && pt->loc_err > 1e-6 * (1.0 + fabs(pt->p)))
             branch_note(r, "%s at row %ld (branch %d, p = %.10g) located only to within %.3g in "
                         "arclength: the corrector left the branch while bisecting", pt->label,
                         r->npoints, r->branch, pt->p, pt->loc_err);
@@ -280,6 +577,7 @@ static int on_point(const cont_point *pt, void *data)
         fprintf(stderr, "%s%s\n", pt->label[0] ? "  " : "", pt->label);
     }
     r->npoints++;
+    if (r->do_stab && !r->in_check) remember_prev(r, pt);
     return 0;
 }
 
@@ -699,6 +997,8 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     if (!rc && r.compared) rc = sf_compare_check(r.cmp, err);
     sf_compare_free(r.cmp);
     if (r.solver) cont_free(r.solver);
+    if (r.aux) cont_free(r.aux);
+    free(r.prev_y);
     sf_equil_free(&r.eq);
     free(r.probes);
     free(r.rows.s);

@@ -456,6 +456,26 @@ static void test_square4_inplane(void **state)
         else b = m;
     }
     double pbp = 0.5 * (a + b);
+    /* the next crossing of the flat branch: a double eigenvalue (the two
+     * buckling modes of the square, related by its symmetry), eig2 and
+     * eig3, vanish together */
+    sf_stab_free(&st);
+    CHECK_OK(sf_stab_init(&st, &eq, SF_EIG_DENSE, 4, &err), err);
+    a = pbp + 1e-6;
+    b = 0.6;
+    CHECK_OK(sf_stab_eval(&st, &eq, y, a, &err), err);
+    assert_true(st.res.eig[1] > 0);
+    CHECK_OK(sf_stab_eval(&st, &eq, y, b, &err), err);
+    assert_true(st.res.eig[1] < 0);
+    for (int i = 0; i < 60; i++) {
+        double m = 0.5 * (a + b);
+        CHECK_OK(sf_stab_eval(&st, &eq, y, m, &err), err);
+        if (st.res.eig[1] > 0) a = m;
+        else b = m;
+    }
+    double pbp2 = 0.5 * (a + b);
+    CHECK_OK(sf_stab_eval(&st, &eq, y, pbp2 - 1e-3, &err), err);
+    CHECK_CLOSE(st.res.eig[1], st.res.eig[2], 1e-9 * fabs(st.res.eig[3]), "double eigenvalue");
     sf_stab_free(&st);
     free(y);
     sf_equil_free(&eq);
@@ -472,6 +492,35 @@ static void test_square4_inplane(void **state)
     assert_int_equal((int)tsv_num(&sp, 0, "branch"), 1);
     assert_string_equal(tsv_str(&sp, 0, "type"), "BP");
     CHECK_CLOSE(tsv_num(&sp, 0, "p"), pbp, 1e-6 * pbp, "square4 in-plane buckling load");
+    /* the double crossing, which the determinant test cannot see, is
+     * located from the Morse index: BP2 on the flat branch */
+    int found2 = 0;
+    for (int r = 0; r < sp.nrow; r++)
+        if ((int)tsv_num(&sp, r, "branch") == 1 && strcmp(tsv_str(&sp, r, "type"), "BP2") == 0) {
+            CHECK_CLOSE(tsv_num(&sp, r, "p"), pbp2, 1e-6 * pbp2, "double crossing");
+            found2++;
+        }
+    assert_int_equal(found2, 1);
+    /* every change of the Morse index between consecutive rows of a branch
+     * is accounted for by the special points there: 1 for LP and BP (and the
+     * first point of a switched branch, a BP), k for BPk */
+    for (int r = 1; r < br.nrow; r++) {
+        int bno = (int)tsv_num(&br, r, "branch");
+        if (bno != (int)tsv_num(&br, r - 1, "branch")) continue;
+        int allowed = 0;
+        for (int k = r - 1; k <= r; k++) {
+            const char *ty = tsv_str(&br, k, "type");
+            if (strcmp(ty, "LP") == 0 || strcmp(ty, "BP") == 0) allowed++;
+            else if (strncmp(ty, "BP", 2) == 0) allowed += atoi(ty + 2);
+            else if (bno > 1 && (k == 0 || (int)tsv_num(&br, k - 1, "branch") != bno)) allowed++;
+        }
+        int d = abs((int)tsv_num(&br, r, "morse") - (int)tsv_num(&br, r - 1, "morse"));
+        if (d > allowed) {
+            print_error("rows %d-%d of branch %d: Morse index changes by %d, special points "
+                        "account for %d\n", r - 1, r, bno, d, allowed);
+            fail();
+        }
+    }
     /* branches through it: 2 and 3, mirror images in uz; and the whole run
      * has stable and unstable states off the flat branch */
     int nb = 0, stable_off = 0, unstable_off = 0;
