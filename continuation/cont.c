@@ -1997,7 +1997,10 @@ static int branch_sparse(cont_solver *s, const double *t1w, double *u, double *r
             for (long i = 0; i < n; i++) s->w1[i] += SM_ELEMENT_D(s->Jy, i, j) * u[j];
     }
     for (long i = 0; i < n; i++) r2 += s->w1[i] * s->w1[i];
-    *resid = anorm2 > 0 ? sqrt(r2 / anorm2) : sqrt(r2);
+    /* relative to |A_s|_F, except for n = 1, where [Jy Fp] vanishes as a
+     * whole at a branch point (a 1 x 2 matrix with a 2-D null space), so
+     * its norm is no scale: absolute, as branch_dense does */
+    *resid = (n >= 2 && anorm2 > 0) ? sqrt(r2 / anorm2) : sqrt(r2);
     if (!(*resid <= BP_NULL_TOL))
         rc = fail(s, CONT_ENUMERIC, "cont_branch_direction: not a branch point: no second "
                   "null vector of [Jy Fp] (relative residual %.3g > %.1e)", *resid, BP_NULL_TOL);

@@ -34,9 +34,8 @@
 # rows were solved with the wrong loads (rejected, then interpolated: 3e-5
 # rad off); fixed in run.c.
 # What is NOT a tolerance matter: which branches a run finds depends on the
-# step control (square4-inplane with max_step 0.1 follows other branches;
-# fold1-buckle with the sparse solver does not switch branches at all, see
-# docs/accuracy.md); such a change fails the test, as it should.
+# step control (square4-inplane with max_step 0.1 follows other branches);
+# such a change fails the test, as it should.
 #     SF_REGRESS_SET='analysis.step=0.1' tests/test_regress.sh   (in the build dir)
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}

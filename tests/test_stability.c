@@ -390,6 +390,34 @@ static void test_dense_vs_arpack(void **state)
                     "--set analysis.max_step=0.05");
 }
 
+/* Branch switching with the sparse linear solver (KLU): fold1-buckle's
+ * one-coordinate problem, where [Jy Fp] vanishes as a whole at the branch
+ * point, gives the dense run's three branches, point for point. */
+static void test_sparse_switching(void **state)
+{
+    (void)state;
+    char d1[1024], d2[1024], keep[1100], cmd[2300];
+    run_study("fold1-buckle", d1, sizeof d1, "--set output.shapes=0");
+    snprintf(keep, sizeof keep, "%s.dense", d1);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mv '%s' '%s'", keep, d1, keep);
+    assert_int_equal(system(cmd), 0);
+    run_study("fold1-buckle", d2, sizeof d2,
+              "--set output.shapes=0 --set solver.linear_solver=\\\"sparse\\\"");
+    tsv A, B;
+    read_out(keep, "branch.tsv", &A);
+    read_out(d2, "branch.tsv", &B);
+    assert_null(strstr(B.header, "no switching"));
+    assert_int_equal(A.nrow, B.nrow);
+    assert_int_equal((int)tsv_num(&B, B.nrow - 1, "branch"), 3);
+    for (int r = 0; r < A.nrow; r++) {
+        assert_int_equal((int)tsv_num(&A, r, "branch"), (int)tsv_num(&B, r, "branch"));
+        CHECK_CLOSE(tsv_num(&B, r, "p"), tsv_num(&A, r, "p"), 1e-9, "p, row %d", r);
+        CHECK_CLOSE(tsv_num(&B, r, "theta1"), tsv_num(&A, r, "theta1"), 1e-9, "theta1, row %d", r);
+    }
+    tsv_free(&A);
+    tsv_free(&B);
+}
+
 /* At a solved point of square4 (exact loop closure, K = 1) away from the
  * flat state: the constraint rows have full rank, the tangent space has
  * nq - ncon dimensions, and no eigenvalue is spuriously zero. */
@@ -668,6 +696,7 @@ int main(void)
         cmocka_unit_test(test_snap_limit_points),
         cmocka_unit_test(test_dense_vs_arpack),
         cmocka_unit_test(test_no_spurious_zero),
+        cmocka_unit_test(test_sparse_switching),
         cmocka_unit_test(test_square4_inplane),
         cmocka_unit_test(test_hard_near_pi),
         cmocka_unit_test(test_hard_stiff_ratio),
