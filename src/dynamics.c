@@ -496,13 +496,10 @@ int sf_dyn_init(sf_dyn *d, const sf_model *m, sf_error *err)
     memset(d, 0, sizeof *d);
     d->m = m;
     const sf_study *s = m->study;
-    const char *param, *group, *probe, *comp, *initial;
+    const char *initial;
     double damping;
-    int inertia, max_steps;
-    if (sf_study_string(s, "analysis.parameter", "load", &param, err) ||
-        sf_study_string(s, "analysis.group", "", &group, err) ||
-        sf_study_string(s, "analysis.probe", "", &probe, err) ||
-        sf_study_string(s, "analysis.component", "z", &comp, err) ||
+    int inertia, max_steps, ptype, gi, pi, ci;
+    if (sf_equil_parse_param(s, &ptype, &gi, &pi, &ci, err) ||
         sf_study_double(s, "analysis.load", 0.0, &d->load_fixed, err) ||
         sf_study_double(s, "analysis.start", 0.0, &d->p_start, err) ||
         sf_study_double(s, "analysis.end", 1.0, &d->p_end, err) ||
@@ -518,14 +515,6 @@ int sf_dyn_init(sf_dyn *d, const sf_model *m, sf_error *err)
     d->max_steps = max_steps;
     d->ctol = s->tolerance > 0 ? s->tolerance : 1e-10;
     d->initial_flat = strcmp(initial, "flat") == 0;
-    int ptype = strcmp(param, "actuation") == 0 ? SF_PARAM_ACTUATION
-              : strcmp(param, "displacement") == 0 ? SF_PARAM_DISPLACEMENT : SF_PARAM_LOAD;
-    int gi = -1, pi = 0;
-    if (group && group[0]) gi = sf_study_group_index(s, group);
-    if (probe && probe[0]) pi = sf_study_probe_index(s, probe);
-    if (ptype == SF_PARAM_DISPLACEMENT && (pi < 0 || s->nprobes == 0))
-        return sf_study_fail(s, err, SF_EINPUT, "analysis.parameter",
-                             "the displacement parameter needs a probe");
     if (ptype == SF_PARAM_DISPLACEMENT && inertia)
         return sf_study_fail(s, err, SF_EINPUT, "analysis.inertia",
                              "a prescribed displacement is only available for overdamped "
@@ -534,7 +523,6 @@ int sf_dyn_init(sf_dyn *d, const sf_model *m, sf_error *err)
         return sf_study_fail(s, err, SF_EINPUT, "analysis.load_schedule",
                              "the load is the parameter p here (analysis.parameter = \"load\"): "
                              "give its history in analysis.schedule");
-    int ci = strcmp(comp, "x") == 0 ? 0 : strcmp(comp, "y") == 0 ? 1 : 2;
     if (sf_equil_init(&d->eq, m, ptype, gi, pi, ci, d->load_fixed, err)) return err->code;
     if (s->constraints == SF_CONSTRAINTS_PENALTY)
         sf_equil_use_penalty(&d->eq, s->penalty_rotation, s->penalty_translation);

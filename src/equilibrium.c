@@ -9,6 +9,7 @@
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include "cont.h"
+#include "study.h"
 
 #define REG_EPS 1e-10
 
@@ -145,6 +146,26 @@ void sf_equil_free(sf_equil *q)
     if (q->Jd) SUNMatDestroy(q->Jd);
     free(q->pattern);
     memset(q, 0, sizeof *q);
+}
+
+int sf_equil_parse_param(const sf_study *s, int *param, int *group, int *probe,
+                         int *component, sf_error *err)
+{
+    const char *par, *grp, *prb, *comp;
+    if (sf_study_string(s, "analysis.parameter", "load", &par, err) ||
+        sf_study_string(s, "analysis.group", "", &grp, err) ||
+        sf_study_string(s, "analysis.probe", "", &prb, err) ||
+        sf_study_string(s, "analysis.component", "z", &comp, err))
+        return err->code;
+    *param = strcmp(par, "actuation") == 0 ? SF_PARAM_ACTUATION
+           : strcmp(par, "displacement") == 0 ? SF_PARAM_DISPLACEMENT : SF_PARAM_LOAD;
+    *group = grp[0] ? sf_study_group_index(s, grp) : -1;
+    *probe = prb[0] ? sf_study_probe_index(s, prb) : 0;
+    *component = strcmp(comp, "x") == 0 ? 0 : strcmp(comp, "y") == 0 ? 1 : 2;
+    if (*param == SF_PARAM_DISPLACEMENT && (*probe < 0 || s->nprobes == 0))
+        return sf_study_fail(s, err, SF_EINPUT, "analysis.parameter",
+                             "the displacement parameter needs a probe");
+    return SF_OK;
 }
 
 void sf_equil_set_param(sf_equil *q, double p)

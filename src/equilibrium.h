@@ -68,6 +68,14 @@ int sf_equil_init(sf_equil *q, const sf_model *m, int param, int group,
                   int probe, int component, double load, sf_error *err);
 void sf_equil_free(sf_equil *q);
 
+/* The path parameter of the study's analysis block, shared by equilibrium
+ * paths and trajectories: analysis.parameter ("load", "actuation",
+ * "displacement"), analysis.group, analysis.probe and analysis.component
+ * as the arguments of sf_equil_init.  Fails (naming the study's line) when
+ * a displacement parameter has no probe. */
+int sf_equil_parse_param(const sf_study *s, int *param, int *group, int *probe,
+                         int *component, sf_error *err);
+
 /* Switch the loop rows to the paper's penalty (weights lR [J], ld [J/m^2]):
  * the unknowns become (q, support multipliers).  Used for penalty studies
  * and for the penalty homotopy that starts exact paths off the flat state. */

@@ -581,11 +581,6 @@ static int write_point(run_ctx *r, const cont_point *pt)
     return 0;
 }
 
-static int component_index(const char *c)
-{
-    return strcmp(c, "x") == 0 ? 0 : strcmp(c, "y") == 0 ? 1 : 2;
-}
-
 /* Follow the branches through the branch points met so far, breadth
  * first: at each simple branch point, the new direction t2 from
  * cont_branch_direction, then one branch along +t2 and one along -t2.
@@ -691,20 +686,15 @@ static int run_equilibrium(run_ctx *r)
     sf_scene *sc = r->sc;
     const sf_study *s = &sc->study;
     sf_error *err = r->err;
-    const char *param, *group, *probe, *comp;
     double start, end, step, min_step, max_step, load;
     int max_steps;
-    if (sf_study_string(s, "analysis.parameter", "load", &param, err) ||
-        sf_study_string(s, "analysis.group", "", &group, err) ||
-        sf_study_double(s, "analysis.start", 0.0, &start, err) ||
+    if (sf_study_double(s, "analysis.start", 0.0, &start, err) ||
         sf_study_double(s, "analysis.end", (double)s->nstages, &end, err) ||
         sf_study_double(s, "analysis.step", 0.05, &step, err) ||
         sf_study_double(s, "analysis.min_step", 1e-6, &min_step, err) ||
         sf_study_double(s, "analysis.max_step", 0.2, &max_step, err) ||
         sf_study_int(s, "analysis.max_steps", 500, &max_steps, err) ||
-        sf_study_double(s, "analysis.load", 0.0, &load, err) ||
-        sf_study_string(s, "analysis.probe", "", &probe, err) ||
-        sf_study_string(s, "analysis.component", "z", &comp, err))
+        sf_study_double(s, "analysis.load", 0.0, &load, err))
         return err->code;
     int stab_on = 1, nev = 4, depth = 0;
     const char *eigsolver = "auto";
@@ -718,14 +708,9 @@ static int run_equilibrium(run_ctx *r)
     r->max_depth = depth;
     r->branch = 1;
     r->nbranches = 1;
-    int ptype = strcmp(param, "actuation") == 0 ? SF_PARAM_ACTUATION
-              : strcmp(param, "displacement") == 0 ? SF_PARAM_DISPLACEMENT : SF_PARAM_LOAD;
-    int gi = -1, pi = 0;
-    if (group && group[0]) gi = sf_study_group_index(s, group);
-    if (probe && probe[0]) pi = sf_study_probe_index(s, probe);
-    if (ptype == SF_PARAM_DISPLACEMENT && (pi < 0 || s->nprobes == 0))
-        return sf_fail(err, SF_EINPUT, "%s: the displacement parameter needs a probe", s->path);
-    if (sf_equil_init(&r->eq, &sc->model, ptype, gi, pi, component_index(comp), load, err))
+    int ptype, gi, pi, ci;
+    if (sf_equil_parse_param(s, &ptype, &gi, &pi, &ci, err)) return err->code;
+    if (sf_equil_init(&r->eq, &sc->model, ptype, gi, pi, ci, load, err))
         return err->code;
     sf_equil *eq = &r->eq;
     sf_reactions_init(&r->reac, ptype == SF_PARAM_DISPLACEMENT ? pi : -1);

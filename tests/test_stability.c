@@ -455,6 +455,26 @@ static void test_no_spurious_zero(void **state)
     sf_scene_close(&sc);
 }
 
+/* Bisection for the zero of the (j+1)-th smallest eigenvalue of the
+ * constrained Hessian at the fixed state y, p in [a, b] (positive at a,
+ * negative at b). */
+static double flat_zero(sf_stab *st, sf_equil *eq, const double *y, int j, double a, double b)
+{
+    sf_error err;
+    sf_error_clear(&err);
+    CHECK_OK(sf_stab_eval(st, eq, y, a, &err), err);
+    assert_true(st->res.eig[j] > 0);
+    CHECK_OK(sf_stab_eval(st, eq, y, b, &err), err);
+    assert_true(st->res.eig[j] < 0);
+    for (int i = 0; i < 60; i++) {
+        double m = 0.5 * (a + b);
+        CHECK_OK(sf_stab_eval(st, eq, y, m, &err), err);
+        if (st->res.eig[j] > 0) a = m;
+        else b = m;
+    }
+    return 0.5 * (a + b);
+}
+
 /* square4 in plane: the flat branch buckles where the smallest eigenvalue
  * of the flat-state constrained Hessian vanishes.  That Hessian is computed
  * at y = 0 (no continuation) for any p; bisection on p finds its zero,
@@ -472,36 +492,13 @@ static void test_square4_inplane(void **state)
     double *y = calloc((size_t)eq.n + 1, sizeof(double));
     sf_stab st;
     CHECK_OK(sf_stab_init(&st, &eq, SF_EIG_DENSE, 1, &err), err);
-    double a = 0.0, b = 0.6;
-    CHECK_OK(sf_stab_eval(&st, &eq, y, a, &err), err);
-    assert_true(st.res.eig[0] > 0);
-    CHECK_OK(sf_stab_eval(&st, &eq, y, b, &err), err);
-    assert_true(st.res.eig[0] < 0);
-    for (int i = 0; i < 60; i++) {
-        double m = 0.5 * (a + b);
-        CHECK_OK(sf_stab_eval(&st, &eq, y, m, &err), err);
-        if (st.res.eig[0] > 0) a = m;
-        else b = m;
-    }
-    double pbp = 0.5 * (a + b);
+    double pbp = flat_zero(&st, &eq, y, 0, 0.0, 0.6);
     /* the next crossing of the flat branch: a double eigenvalue (the two
      * buckling modes of the square, related by its symmetry), eig2 and
      * eig3, vanish together */
     sf_stab_free(&st);
     CHECK_OK(sf_stab_init(&st, &eq, SF_EIG_DENSE, 4, &err), err);
-    a = pbp + 1e-6;
-    b = 0.6;
-    CHECK_OK(sf_stab_eval(&st, &eq, y, a, &err), err);
-    assert_true(st.res.eig[1] > 0);
-    CHECK_OK(sf_stab_eval(&st, &eq, y, b, &err), err);
-    assert_true(st.res.eig[1] < 0);
-    for (int i = 0; i < 60; i++) {
-        double m = 0.5 * (a + b);
-        CHECK_OK(sf_stab_eval(&st, &eq, y, m, &err), err);
-        if (st.res.eig[1] > 0) a = m;
-        else b = m;
-    }
-    double pbp2 = 0.5 * (a + b);
+    double pbp2 = flat_zero(&st, &eq, y, 1, pbp + 1e-6, 0.6);
     CHECK_OK(sf_stab_eval(&st, &eq, y, pbp2 - 1e-3, &err), err);
     CHECK_CLOSE(st.res.eig[1], st.res.eig[2], 1e-9 * fabs(st.res.eig[3]), "double eigenvalue");
     sf_stab_free(&st);
