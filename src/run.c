@@ -279,21 +279,21 @@ static double eig_j(const run_ctx *r, int j, int *exact)
     return R->morse >= j ? -1.0 : 1.0;
 }
 
-/* Locate the zero of the j-th eigenvalue (1-based) between the previous
- * point a (r->prev_y, r->prev_p) and b (yb, pb): regula falsi with the
- * Illinois modification on the eigenvalue where the method computed it,
- * bisection on the index otherwise.  Leaves the solution in r->yt and its
- * p in *p_out; returns the final bracket width in p, or -1 when the zero
- * cannot be located. */
-static double locate_eig(run_ctx *r, const double *yb, double pb, int j, double *p_out)
+/* Locate the zero of the j-th eigenvalue (1-based) between the points
+ * a (ya, pa), where it is fa (its sign only unless known_a), and b (yb,
+ * pb), where it has the other sign: regula falsi with the Illinois
+ * modification on the eigenvalue where the method computed it, bisection
+ * on the index otherwise.  Leaves the solution in r->yt and its p in
+ * *p_out; returns the final bracket width in p, or -1 when the zero cannot
+ * be located. */
+static double locate_eig(run_ctx *r, const double *ya, double pa, double fa, int known_a,
+                         const double *yb, double pb, int j, double *p_out)
 {
     int n = r->eq.n;
-    double pa = r->prev_p, pb0 = pb;
-    memcpy(r->ya, r->prev_y, sizeof(double) * (size_t)n);
-    memcpy(r->yb, yb, sizeof(double) * (size_t)n);
-    /* at a the eigenvalue has not crossed yet: negative iff j <= lo(a) */
-    int known_a = j <= r->prev_neig, known_b = 0, side = 0;
-    double fa = known_a ? r->prev_eig[j - 1] : (j <= r->prev_lo ? -1.0 : 1.0);
+    double pa0 = pa, pb0 = pb;
+    memmove(r->ya, ya, sizeof(double) * (size_t)n);
+    memmove(r->yb, yb, sizeof(double) * (size_t)n);
+    int known_b = 0, side = 0;
     double fb = fa > 0 ? -1.0 : 1.0;
     double tol = 1e-10 * (1.0 + fabs(pa) + fabs(pb));
     int hit = 0;
@@ -313,7 +313,7 @@ static double locate_eig(run_ctx *r, const double *yb, double pb, int j, double 
             if (side == 0) return -1.0;
             int use_a = side == -1 && !(known_a && known_b && fabs(fb) < fabs(fa));
             if (known_a && known_b) use_a = fabs(fa) <= fabs(fb);
-            if (use_a && fabs(pa - r->prev_p) == 0.0) use_a = 0;
+            if (use_a && pa == pa0) use_a = 0;
             if (!use_a && pb == pb0) use_a = 1;
             memcpy(r->yt, use_a ? r->ya : r->yb, sizeof(double) * (size_t)n);
             *p_out = use_a ? pa : pb;
@@ -372,7 +372,10 @@ static int check_morse(run_ctx *r, const cont_point *pt)
     int nloc = 0;
     r->in_check = 1;
     for (int j = j0; j <= j1; j++) {
-        double w = locate_eig(r, pt->y, pb, j, &pc[nloc]);
+        /* at a the eigenvalue has not crossed yet: negative iff j <= lo(a) */
+        int known_a = j <= r->prev_neig;
+        double fa = known_a ? r->prev_eig[j - 1] : (j <= r->prev_lo ? -1.0 : 1.0);
+        double w = locate_eig(r, r->prev_y, pa, fa, known_a, pt->y, pb, j, &pc[nloc]);
         if (w < 0) continue;
         wc[nloc] = w;
         memcpy(yc + (size_t)nloc * n, r->yt, sizeof(double) * (size_t)n);
@@ -452,6 +455,74 @@ static int check_morse(run_ctx *r, const cont_point *pt)
     return SF_OK;
 }
 
+/* A branch point the engine located poorly (its corrector left the branch
+ * while bisecting on the determinant): locate the zero of the eigenvalue
+ * nearest zero again, with fixed-p solves, between the previous point and
+ * pt or, when the eigenvalue has not changed sign there, between pt and a
+ * point one step beyond.  On success *q is the located point (state in
+ * ybuf, n values) with r->stab.res its stability, and 1 is returned; 0
+ * leaves pt as it is (with r->stab.res at pt). */
+static int refine_bp(run_ctx *r, const cont_point *pt, cont_point *q, double *ybuf)
+{
+    const sf_stab_result *R = &r->stab.res;
+    if (strcmp(pt->label, "BP") != 0 || pt->loc_err <= 1e-6 * (1.0 + fabs(pt->p)) ||
+        !r->prev_ok || r->branch_first || R->neig < 1 || pt->p == r->prev_p)
+        return 0;
+    int j = 1;
+    for (int i = 1; i < R->neig; i++)
+        if (fabs(R->eig[i]) < fabs(R->eig[j - 1])) j = i + 1;
+    if (j > r->prev_neig) return 0;
+    if (!r->aux) {
+        if (sf_equil_create_solver(&r->eq, &r->aux) != CONT_OK) return 0;
+        cont_set_newton(r->aux, r->sc->study.tolerance > 0 ? r->sc->study.tolerance : 1e-10, 12, 0);
+    }
+    int n = r->eq.n, exact;
+    double *w2 = malloc(sizeof(double) * 2 * (size_t)n);
+    if (!w2) return 0;
+    double *ybp = w2, *yc = w2 + n;
+    memcpy(ybp, pt->y, sizeof(double) * (size_t)n);
+    double fbp = R->eig[j - 1], fa = r->prev_eig[j - 1], pa = r->prev_p, pbp = pt->p, pz = pbp;
+    double w = -1.0;
+    r->in_check = 1;
+    if ((fa > 0) != (fbp > 0)) {
+        w = locate_eig(r, r->prev_y, pa, fa, 1, ybp, pbp, j, &pz);
+    } else {
+        double pc = pbp + (pbp - pa);
+        memcpy(r->ya, r->prev_y, sizeof(double) * (size_t)n);
+        memcpy(r->yb, ybp, sizeof(double) * (size_t)n);
+        if (!solve_at(r, pa, pbp, pc)) {
+            double fc = eig_j(r, j, &exact);
+            if (exact && (fc > 0) != (fbp > 0)) {
+                memcpy(yc, r->yt, sizeof(double) * (size_t)n);
+                w = locate_eig(r, ybp, pbp, fbp, 1, yc, pc, j, &pz);
+            }
+        }
+    }
+    r->in_check = 0;
+    double sarc = pt->s + r->s_offset, dsdp = fabs((sarc - r->prev_sarc) / (pbp - pa));
+    if (w < 0 || w * dsdp > pt->loc_err) {
+        free(w2);
+        sf_error e;
+        sf_error_clear(&e);
+        sf_stab_eval(&r->stab, &r->eq, pt->y, pt->p, &e);
+        return 0;
+    }
+    *q = *pt;
+    q->index = -1;        /* not the engine's location (no note from write_point) */
+    memcpy(ybuf, r->yt, sizeof(double) * (size_t)n);
+    q->y = ybuf;
+    q->p = pz;
+    q->s = pt->s + (pz - pbp) * (sarc - r->prev_sarc) / (pbp - pa);
+    q->loc_err = w * dsdp;
+    branch_note(r, "BP at row %ld (branch %d): the determinant location stopped %.3g (arclength) "
+                "from it; located again on eigenvalue %d, to within %.3g, at p = %.10g%s",
+                r->npoints, r->branch, pt->loc_err, j, q->loc_err, pz,
+                q->loc_err > 1e-6 * (1.0 + fabs(pz))
+                    ? " (Newton at fixed p does not converge closer to the singular point)" : "");
+    free(w2);
+    return 1;
+}
+
 static int on_point(const cont_point *pt, void *data)
 {
     run_ctx *r = data;
@@ -478,6 +549,14 @@ static int on_point(const cont_point *pt, void *data)
             r->failed = 1;
             return 1;
         }
+        cont_point q;
+        double *ybuf = malloc(sizeof(double) * (size_t)eq->n);
+        if (ybuf && refine_bp(r, pt, &q, ybuf)) {
+            int rc = write_point(r, &q);
+            free(ybuf);
+            return rc;
+        }
+        free(ybuf);
     }
     return write_point(r, pt);
 }
