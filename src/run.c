@@ -306,22 +306,7 @@ static double locate_eig(run_ctx *r, const double *ya, double pa, double fa, int
             p = 0.5 * (pa + pb);
             failed = solve_at(r, pa, pb, p);
         }
-        if (failed) {
-            /* Newton at fixed p fails next to a singular point (the
-             * Jacobian is singular where the eigenvalues vanish): keep
-             * the bracket reached, if any, with the end nearer the zero */
-            if (side == 0) return -1.0;
-            int use_a = side == -1 && !(known_a && known_b && fabs(fb) < fabs(fa));
-            if (known_a && known_b) use_a = fabs(fa) <= fabs(fb);
-            if (use_a && pa == pa0) use_a = 0;
-            if (!use_a && pb == pb0) use_a = 1;
-            memcpy(r->yt, use_a ? r->ya : r->yb, sizeof(double) * (size_t)n);
-            *p_out = use_a ? pa : pb;
-            sf_error e;
-            sf_error_clear(&e);
-            if (sf_stab_eval(&r->stab, &r->eq, r->yt, *p_out, &e)) return -1.0;
-            return fabs(pb - pa);
-        }
+        if (failed) break;
         int exact;
         double f = eig_j(r, j, &exact);
         if (f == 0.0) { pa = pb = p; hit = 1; break; }
@@ -338,7 +323,19 @@ static double locate_eig(run_ctx *r, const double *ya, double pa, double fa, int
         }
     }
     *p_out = 0.5 * (pa + pb);
-    if (!hit && solve_at(r, pa, pb, *p_out)) return -1.0;
+    if (hit || !solve_at(r, pa, pb, *p_out)) return fabs(pb - pa);
+    /* Newton at fixed p fails next to a singular point (the Jacobian is
+     * singular where the eigenvalue vanishes): keep the bracket reached,
+     * if any, with its end nearer the zero (one solved here, not a or b) */
+    if (side == 0) return -1.0;
+    int use_a = known_a && known_b ? fabs(fa) <= fabs(fb) : side == -1;
+    if (use_a && pa == pa0) use_a = 0;
+    if (!use_a && pb == pb0) use_a = 1;
+    memcpy(r->yt, use_a ? r->ya : r->yb, sizeof(double) * (size_t)n);
+    *p_out = use_a ? pa : pb;
+    sf_error e;
+    sf_error_clear(&e);
+    if (sf_stab_eval(&r->stab, &r->eq, r->yt, *p_out, &e)) return -1.0;
     return fabs(pb - pa);
 }
 
