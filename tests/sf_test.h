@@ -23,6 +23,18 @@
         }                                                                       \
     } while (0)
 
+/* Fails when got exceeds bound. */
+#define CHECK_LE(got, bound, ...)                                               \
+    do {                                                                        \
+        double g_ = (got), b_ = (bound);                                        \
+        if (!(g_ <= b_)) {                                                      \
+            char what_[256];                                                    \
+            snprintf(what_, sizeof what_, __VA_ARGS__);                         \
+            print_error("%s: %.6g exceeds %.6g\n", what_, g_, b_);              \
+            fail();                                                             \
+        }                                                                       \
+    } while (0)
+
 #ifndef SF_TEST_SEED
 #define SF_TEST_SEED 12345u
 #endif

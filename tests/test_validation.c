@@ -29,17 +29,6 @@
 #include "scene.h"
 #include "study.h"
 
-#define CHECK_LE(got, bound, ...)                                               \
-    do {                                                                        \
-        double g_ = (got), b_ = (bound);                                        \
-        if (!(g_ <= b_)) {                                                      \
-            char what_[256];                                                    \
-            snprintf(what_, sizeof what_, __VA_ARGS__);                         \
-            print_error("%s: %.6g exceeds %.6g\n", what_, g_, b_);              \
-            fail();                                                             \
-        }                                                                       \
-    } while (0)
-
 static char data_dir[1024];
 
 /* ------------------------------------------------------------------------
