@@ -48,6 +48,16 @@ static inline double urand(double a, double b)
     return a + (b - a) * ((rng_state >> 8) & 0xffffff) / (double)0x1000000;
 }
 
+/* A random state of model m: fold angles in [-amax, amax], shape mode
+ * amplitudes in [-amodes, amodes]. */
+static inline void random_state(const sf_model *m, double *q, double amax, double amodes)
+{
+    for (int i = 0; i < m->nfolds; i++) {
+        q[m->qoff[i]] = urand(-amax, amax);
+        for (int k = 1; k < m->qn[i]; k++) q[m->qoff[i] + k] = urand(-amodes, amodes);
+    }
+}
+
 /* Directory of the studies, set by main from SF_SRCDIR. */
 static char studies_dir[1024];
 

@@ -20,14 +20,6 @@
 #include "study.h"
 #include "topology.h"
 
-static void random_state(const sf_model *m, double *q, double amax, double amodes)
-{
-    for (int i = 0; i < m->nfolds; i++) {
-        q[m->qoff[i]] = urand(-amax, amax);
-        for (int k = 1; k < m->qn[i]; k++) q[m->qoff[i] + k] = urand(-amodes, amodes);
-    }
-}
-
 /* Compare analytic A (n entries) with finite differences F: per entry,
  * relative error < 1e-6 against max(|F_i|, 1e-3 max|F|). */
 static void compare(const double *A, const double *F, size_t n, const char *what)
