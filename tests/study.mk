@@ -1,4 +1,4 @@
-# tests/study.mk: the study reader (src/study.c)
+# tests/study.mk: the study reader (src/pattern/study.c)
 check_PROGRAMS += tests/test_study
 TESTS += tests/test_study
 tests_test_study_SOURCES = tests/test_study.c

@@ -1,4 +1,4 @@
-/* test_study.c - the study reader (src/study.c): the paper's studies load
+/* test_study.c - the study reader (src/pattern/study.c): the paper's studies load
  * with the right contents, --set overrides, the writer round trip, the
  * accessors, and every broken study in tests/bad/ fails as expected.
  *

@@ -1,4 +1,4 @@
-/* test_validation.c - whole equilibrium paths, run as src/run.c runs them
+/* test_validation.c - whole equilibrium paths, run as src/cli/run.c runs them
  * (sf_equil + the continuation engine with a point callback), against the
  * reference data of ../shared/data (CASES.md, data/README.md):
  *   strip3      against the paper's own code (the finite-element
@@ -96,7 +96,7 @@ static double csv_at(const csv *c, int row, int col) { return c->v[(size_t)row *
 static void csv_free(csv *c) { free(c->v); memset(c, 0, sizeof *c); }
 
 /* ------------------------------------------------------------------------
- * Running a path as src/run.c does
+ * Running a path as src/cli/run.c does
  * ------------------------------------------------------------------------ */
 
 typedef struct path {
@@ -229,7 +229,7 @@ static void run_path(path *P, const char *study, int nset, const char **sets, co
     assert_non_null(y0);
     int rc;
     if (eq->nloop > 0 && scaled_residual(P, y0, P->start) <= 1e-14) {
-        /* the flat state: report it, start one step further (src/run.c) */
+        /* the flat state: report it, start one step further (src/cli/run.c) */
         add_point(P, y0, P->start);
         double p1 = P->start + dir * fmin(step, 0.25 * fabs(P->end - P->start));
         penalty_homotopy(P, p1, y0);

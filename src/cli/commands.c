@@ -30,7 +30,7 @@ static void print_dof(int dof, int first, double gap, double radius)
                 "of locking (%d at first order)", radius, gap, first);
 }
 
-/* Degrees of freedom left by exact loop closure (src/mobility.h). */
+/* Degrees of freedom left by exact loop closure (src/analysis/mobility.h). */
 static int print_mobility(const sf_scene *sc, sf_error *err)
 {
     sf_mobility mb;

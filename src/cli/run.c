@@ -859,7 +859,7 @@ static int run_equilibrium(run_ctx *r)
          * singular point of loop closure (multipliers of the second-order
          * rows are undetermined there).  Report it, then start the branch
          * one step further from the limit of the branch at the flat state
-         * (src/flatstart.c; the penalty homotopy as the fallback). */
+         * (src/analysis/flatstart.c; the penalty homotopy as the fallback). */
         cont_point p0;
         memset(&p0, 0, sizeof p0);
         p0.y = y0;
