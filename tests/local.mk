@@ -28,3 +28,4 @@ include tests/dynamics.mk
 include tests/paths.mk
 include tests/accuracy.mk
 include tests/cli.mk
+include tests/bifurcation.mk
