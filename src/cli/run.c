@@ -600,7 +600,7 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     char shapes[1100];
     snprintf(shapes, sizeof shapes, "%s/shapes", r.dir);
     if (!rc) rc = sf_compare_open(&r.cmp, &sc.study, err);   /* bad reference files: before any output */
-    if (!rc) rc = sf_mkdir_p(r.dir, err);
+    if (!rc) rc = sf_cli_outdir(o, r.dir, err);   /* earlier results removed */
     if (!rc && sc.study.shapes > 0) rc = sf_mkdir_p(shapes, err);
     if (!rc) {
         char pvd[1100];
