@@ -144,6 +144,8 @@ static const sf_study_key schema[] = {
     {"analysis.stability",         BOOL,  0,              0, 0,       "true",        NULL, "-", "compute stability along the path"},
     {"analysis.eigenvalues",       INT,   SF_KEY_GE,      0, 0,       "4",           NULL, "-", "lowest eigenvalues of the constrained Hessian reported"},
     {"analysis.eigensolver",       STR,   0,              0, 0,       "auto",        "auto|dense|arpack", "-", "eigenvalues of the constrained Hessian: dense LAPACK (explicit tangent basis), ARPACK shift-invert on the KKT pencil, or auto (dense up to 200 coordinates)"},
+    {"analysis.arpack_maxiter",    INT,   SF_KEY_GE,      1, 0,       "1000",        NULL, "-", "ARPACK restarts per attempt (a non-converged attempt is retried with a larger subspace, then another shift)"},
+    {"analysis.arpack_attempts",   INT,   SF_KEY_GE,      1, 0,       "4",           NULL, "-", "ARPACK attempts per point before its stability is marked unknown"},
     {"analysis.branch_depth",      INT,   SF_KEY_GE,      0, 0,       "0",           NULL, "-", "levels of branch switching at branch points (0: none)"},
     {"analysis.report",            STR,   0,              0, 0,       NULL,          NULL, "-", "probe reported against p (default: the first probe)"},
     {"analysis.duration",          NUM,   POS | DYN,      0, 0,       NULL,          NULL, "s", "length of the trajectory (required for dynamics)"},
