@@ -107,7 +107,8 @@ static void stab_fields(run_ctx *r, sf_outbuf *b)
         for (int i = 0; i < r->nev; i++) sf_outbuf_printf(b, "\t");
         return;
     }
-    sf_outbuf_printf(b, "\t%d\t%d", R->stable, R->morse);
+    if (R->stable < 0) sf_outbuf_printf(b, "\t\t%d", R->morse); /* unknown: empty */
+    else sf_outbuf_printf(b, "\t%d\t%d", R->stable, R->morse);
     for (int i = 0; i < r->nev; i++) {
         if (i < R->neig && isfinite(R->eig[i])) sf_outbuf_printf(b, "\t%.13g", R->eig[i]);
         else sf_outbuf_printf(b, "\t");
@@ -138,6 +139,13 @@ static int on_point(const cont_point *pt, void *data)
             return 1;
         }
         r->neig_method[r->stab.res.method]++;
+        const sf_stab_result *S = &r->stab.res;
+        if (S->status != SF_SSTAB_OK)
+            branch_note(r, "stability at row %ld (branch %d, p = %.10g): %s after %d ARPACK "
+                        "attempt(s): %s", r->npoints, r->bif.branch, pt->p,
+                        S->status == SF_SSTAB_RETRIED ? "retried, converged"
+                        : S->stable < 0 ? "UNKNOWN" : "eigenvalues unknown, unstable by inertia",
+                        S->attempts, S->reason);
         if (sf_bif_check(&r->bif, pt, r->s_offset, r->branch_first, r->err)) {
             r->failed = 1;
             return 1;
@@ -375,6 +383,9 @@ static int run_equilibrium(run_ctx *r)
         int meth = strcmp(eigsolver, "dense") == 0 ? SF_EIG_DENSE
                  : strcmp(eigsolver, "arpack") == 0 ? SF_EIG_ARPACK : SF_EIG_AUTO;
         if (sf_stab_init(&r->stab, eq, meth, nev > 0 ? nev : 1, err)) return err->code;
+        if (sf_study_int(s, "analysis.arpack_maxiter", 1000, &r->stab.arpack_maxiter, err) ||
+            sf_study_int(s, "analysis.arpack_attempts", 4, &r->stab.arpack_attempts, err))
+            return err->code;
     }
     /* the continuation engine sees only this problem */
     if (sf_equil_create_solver(eq, &r->solver) != CONT_OK)
