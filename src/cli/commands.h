@@ -31,6 +31,9 @@ int sf_cmd_compare(const char *dir_a, const char *dir_b, const sf_options *o, sf
 /* Run the gnuplot scripts of plots/ on a run directory (plot.c); folds:
  * which folds angles.png draws (names, groups, numbers, "all"), or NULL. */
 int sf_cmd_plot(const char *dir, const char *folds, sf_error *err);
+/* After `run` of an equilibrium path: the plots when --plot, or when the
+ * study's output.plots is true and --no-plot was not given. */
+int sf_cli_run_plots(const sf_options *o, sf_error *err);
 /* plots/trajectory.gp on a dynamics run directory (prints nothing). */
 int sf_plot_trajectory(const char *dir, sf_error *err);
 
