@@ -32,7 +32,11 @@ static const char *usage_text =
     "                          (.vtp, XML PolyData; default: the flat sheet)\n"
     "  run STUDY.cfg -o DIR    run the study's analysis, write results to DIR\n"
     "  plot DIR                draw the diagrams of a run's results (gnuplot;\n"
-    "                          PNG and PDF in DIR)\n"
+    "                          PNG and PDF in DIR)\n"    "  pattern NAME -o F       generate a tessellation (miura, yoshimura,\n"
+    "                          waterbomb) as a study (.cfg) or FOLD (.fold)\n"
+    "  import P.fold -o S.cfg  a FOLD crease pattern as a ready-to-run study\n"
+    "  export S.cfg -o P.fold  a study's crease pattern as FOLD\n"
+    "                          (smoothfold pattern --help for their options)\n"
     "\n"
     "Options:\n"
     "  -o, --output=PATH       output file (shape) or directory (run)\n"
@@ -95,6 +99,15 @@ int main(int argc, char **argv)
         {"version", no_argument, NULL, 'V'},
         {NULL, 0, NULL, 0},
     };
+    if (argc >= 2 && sf_cmd_is_pattern(argv[1])) {   /* pattern, import, export */
+        sf_error perr;
+        sf_error_clear(&perr);
+        if (sf_cmd_pattern(argc - 1, argv + 1, &perr) != SF_OK) {
+            fprintf(stderr, "smoothfold: %s\n", perr.msg);
+            return exit_code(perr.code);
+        }
+        return 0;
+    }
     sf_options opt;
     memset(&opt, 0, sizeof opt);
     const char **sets = calloc((size_t)argc + 1, sizeof(char *));
