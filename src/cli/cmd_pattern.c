@@ -174,10 +174,8 @@ static int ends_with(const char *s, const char *suf)
     return n >= m && strcmp(s + n - m, suf) == 0;
 }
 
-static int cmd_pattern(int argc, char **argv, popts *p, sf_error *err)
+static int cmd_pattern(char **argv, popts *p, sf_error *err)
 {
-    if (optind + 1 != argc)
-        return sf_fail(err, SF_EINPUT, "pattern: give one pattern name (%s)", sf_gen_names());
     const char *name = argv[optind];
     sf_gen_opts g;
     if (sf_gen_defaults(name, &g, err)) return err->code;
@@ -225,11 +223,18 @@ int sf_cmd_pattern(int argc, char **argv, sf_error *err)
     int rc = parse(argc, argv, &p, err);
     if (rc < 0) { free(p.sets); return SF_OK; }
     if (!rc && !p.output) rc = sf_fail(err, SF_EINPUT, "%s: give the output file with -o FILE", argv[0]);
+    if (!rc && optind + 1 != argc)
+        rc = sf_fail(err, SF_EINPUT, "%s: expected %s", argv[0],
+                     strcmp(argv[0], "pattern") == 0 ? "one pattern name (miura, yoshimura, waterbomb)"
+                     : strcmp(argv[0], "import") == 0 ? "one FOLD file" : "one study file");
+    if (rc) { free(p.sets); return SF_CMD_USAGE; }
     if (!rc) {
         if (strcmp(argv[0], "pattern") == 0) {
-            if (!ends_with(p.output, ".cfg") && !ends_with(p.output, ".fold"))
-                rc = sf_fail(err, SF_EINPUT, "pattern: -o %s: the output must end in .cfg (a study) or .fold", p.output);
-            else rc = cmd_pattern(argc, argv, &p, err);
+            if (!ends_with(p.output, ".cfg") && !ends_with(p.output, ".fold")) {
+                sf_fail(err, SF_EINPUT, "pattern: -o %s: the output must end in .cfg (a study) or .fold", p.output);
+                rc = SF_CMD_USAGE;
+            }
+            else rc = cmd_pattern(argv, &p, err);
         } else if (strcmp(argv[0], "import") == 0) {
             rc = sf_cmd_import(argc, argv, p.output, p.unit, p.frame, &p.s, p.nset, p.sets, err);
         } else {
