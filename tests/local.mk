@@ -29,3 +29,4 @@ include tests/paths.mk
 include tests/accuracy.mk
 include tests/cli.mk
 include tests/bifurcation.mk
+include tests/pattern.mk
