@@ -27,3 +27,4 @@ EXTRA_DIST += tests/sf_test.h
 include tests/dynamics.mk
 include tests/paths.mk
 include tests/accuracy.mk
+include tests/boundary.mk
