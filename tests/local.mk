@@ -27,4 +27,6 @@ EXTRA_DIST += tests/sf_test.h
 include tests/dynamics.mk
 include tests/paths.mk
 include tests/accuracy.mk
+include tests/cli.mk
+include tests/bifurcation.mk
 include tests/boundary.mk

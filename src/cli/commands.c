@@ -14,6 +14,7 @@
 #include "compare.h"
 #include "kinematics.h"
 #include "mobility.h"
+#include "outdir.h"
 #include "scene.h"
 #include "study.h"
 #include "topology.h"
@@ -126,6 +127,16 @@ int sf_cmd_check(const sf_options *o, sf_error *err)
     sf_compare_free(cmp);
     sf_scene_close(&sc);
     return rc;
+}
+
+int sf_cli_outdir(const sf_options *o, const char *dir, sf_error *err)
+{
+    int removed = 0;
+    if (sf_outdir_prepare(dir, o->force, &removed, err)) return err->code;
+    if (removed && !o->quiet)
+        fprintf(stderr, "smoothfold: note: removed %d file%s of an earlier run from %s "
+                "(results, shapes, plots)\n", removed, removed == 1 ? "" : "s", dir);
+    return SF_OK;
 }
 
 /* Parse --angles: one value for all folds, or one per fold. */

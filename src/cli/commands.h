@@ -12,11 +12,21 @@ typedef struct sf_options {
     int nset;
     const char *angles;
     int quiet;
+    int force;        /* run: write into a directory holding other files */
+    int plot;         /* run: 1 draw plots, 0 do not, -1 as output.plots says */
+    double tol;       /* compare: --tol (when have_tol) */
+    int have_tol;
 } sf_options;
 
 int sf_cmd_check(const sf_options *o, sf_error *err);
 int sf_cmd_shape(const sf_options *o, sf_error *err);
 int sf_cmd_run(const sf_options *o, sf_error *err);
+/* Prepare the output directory of a run (outdir.h: own earlier outputs
+ * removed, a foreign non-empty directory refused without --force); says
+ * on stderr what it removed unless quiet. */
+int sf_cli_outdir(const sf_options *o, const char *dir, sf_error *err);
+/* Differences between two equilibrium runs (cmp_runs.c). */
+int sf_cmd_compare(const char *dir_a, const char *dir_b, const sf_options *o, sf_error *err);
 /* Run the gnuplot scripts of plots/ on a run directory. */
 int sf_cmd_plot(const char *dir, sf_error *err);
 /* plots/trajectory.gp on a dynamics run directory (prints nothing). */
