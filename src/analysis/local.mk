@@ -7,12 +7,8 @@ src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibri
 	src/analysis/mobility.c src/analysis/mobility.h \
 	src/analysis/compare.c src/analysis/compare.h \
 	src/analysis/stability.c src/analysis/stability.h \
-<<<<<<< HEAD
-	src/analysis/dynamics.c src/analysis/dynamics.h \
-	src/analysis/boundary.c src/analysis/boundary.h
-=======
 	src/analysis/ldlt.c src/analysis/ldlt.h \
 	src/analysis/sstab.c src/analysis/sstab.h \
 	src/analysis/bifurcation.c src/analysis/bifurcation.h \
-	src/analysis/dynamics.c src/analysis/dynamics.h
->>>>>>> main
+	src/analysis/dynamics.c src/analysis/dynamics.h \
+	src/analysis/boundary.c src/analysis/boundary.h
