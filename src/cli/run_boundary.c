@@ -357,7 +357,7 @@ int sf_run_boundary(sf_scene *sc, const sf_options *o, sf_error *err)
     if (!rc)
         rc = follow(&r, (qmin - r.fam.q0) / r.fam.qs, (qmax - r.fam.q0) / r.fam.qs, qstep, min_step,
                     qmax_step, max_steps, tol);
-    if (!rc) rc = sf_mkdir_p(o->output, err);
+    if (!rc) rc = sf_cli_outdir(o, o->output, err);   /* earlier results removed */
     if (!rc) rc = write_boundary(&r, o->output, start);
     if (!rc && !o->quiet)
         printf("%s: boundary of %d points, %ld cusps, %ld problems built, %ld Jacobians for "
