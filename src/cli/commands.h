@@ -16,6 +16,7 @@ typedef struct sf_options {
     int plot;         /* run: 1 draw plots, 0 do not, -1 as output.plots says */
     double tol;       /* compare: --tol (when have_tol) */
     int have_tol;
+    const char *folds; /* plot: --folds selection */
 } sf_options;
 
 int sf_cmd_check(const sf_options *o, sf_error *err);
@@ -27,8 +28,9 @@ int sf_cmd_run(const sf_options *o, sf_error *err);
 int sf_cli_outdir(const sf_options *o, const char *dir, sf_error *err);
 /* Differences between two equilibrium runs (cmp_runs.c). */
 int sf_cmd_compare(const char *dir_a, const char *dir_b, const sf_options *o, sf_error *err);
-/* Run the gnuplot scripts of plots/ on a run directory. */
-int sf_cmd_plot(const char *dir, sf_error *err);
+/* Run the gnuplot scripts of plots/ on a run directory (plot.c); folds:
+ * which folds angles.png draws (names, groups, numbers, "all"), or NULL. */
+int sf_cmd_plot(const char *dir, const char *folds, sf_error *err);
 /* plots/trajectory.gp on a dynamics run directory (prints nothing). */
 int sf_plot_trajectory(const char *dir, sf_error *err);
 
