@@ -81,6 +81,7 @@ static const sf_study_key schema[] = {
     {"folds[].material",           STR,   0,              0, 0,       NULL,          NULL, "-", "material (else defaults.material)"},
     {"folds[].group",              STR,   0,              0, 0,       NULL,          NULL, "-", "actuation group the fold belongs to"},
     {"folds[].rest_angle",         NUM,   0,              0, 0,       NULL,          NULL, "rad", "stress-free fold angle (else defaults.rest_angle)"},
+    {"folds[].assignment",         STR,   0,              0, 0,       NULL,          "M|V",   "-", "mountain or valley (valley positive): check rejects a rest angle of the other sign"},
     {"folds[].damping",            NUM,   POS,            0, 0,       NULL,          NULL, "J s", "dynamics: damping coefficient of the fold angle (else analysis.damping)"},
 
     {"fixed_face",                 V2,    REQ,            0, 0,       NULL,          NULL, "m", "a point inside the fixed face"},
@@ -405,6 +406,7 @@ int sf_study_load(const char *path, int nset, const char *const *sets,
     rc = st_check_group(s, err, config_root_setting(cfg), "");
     if (!rc) rc = st_fill(s, cfg, err);
     if (!rc) rc = st_materialize(s, cfg, err);
+    if (!rc) rc = sf_study_check_assignments(s, err);   /* assignment.c */
     if (rc) {
         sf_study_free(s);
         return rc;
