@@ -5,9 +5,11 @@ src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibri
 	src/analysis/flatstart.c src/analysis/flatstart.h \
 	src/analysis/reactions.c src/analysis/reactions.h \
 	src/analysis/mobility.c src/analysis/mobility.h \
-	src/analysis/compare.c src/analysis/compare.h \
+	src/analysis/compare.c src/analysis/compare.h src/analysis/compare_impl.h \
+	src/analysis/compare_read.c src/analysis/compare_eval.c src/analysis/compare_write.c \
 	src/analysis/stability.c src/analysis/stability.h \
 	src/analysis/ldlt.c src/analysis/ldlt.h \
 	src/analysis/sstab.c src/analysis/sstab.h \
 	src/analysis/bifurcation.c src/analysis/bifurcation.h \
-	src/analysis/dynamics.c src/analysis/dynamics.h
+	src/analysis/dynamics.c src/analysis/dynamics.h \
+	src/analysis/boundary.c src/analysis/boundary.h

@@ -37,6 +37,11 @@ static const char *usage_text =
     "                          PNG and PDF in DIR)\n"
     "  compare DIR_A DIR_B     largest differences between two runs of one sheet\n"
     "                          (probes and fold angles at matched p)\n"
+    "  pattern NAME -o F       generate a tessellation (miura, yoshimura,\n"
+    "                          waterbomb) as a study (.cfg) or FOLD (.fold)\n"
+    "  import P.fold -o S.cfg  a FOLD crease pattern as a ready-to-run study\n"
+    "  export S.cfg -o P.fold  a study's crease pattern as FOLD\n"
+    "                          (smoothfold pattern --help for their options)\n"
     "\n"
     "Options:\n"
     "  -o, --output=PATH       output file (shape) or directory (run)\n"
@@ -49,6 +54,8 @@ static const char *usage_text =
     "                          files than smoothfold's (they are kept)\n"
     "      --plot, --no-plot   run: draw the plots afterwards, or not (default:\n"
     "                          a dynamics run draws them, an equilibrium run not)\n"
+    "      --folds=LIST        plot, run --plot: folds drawn in angles.png (names,\n"
+    "                          groups, numbers, or all)\n"
     "  -q, --quiet             no progress lines\n"
     "  -h, --help              show this help and exit\n"
     "  -V, --version           show the version and exit\n"
@@ -93,11 +100,14 @@ static const command commands[] = {
      "3 numerical failure, 4 file error, 5 no motion, 6 reference tolerance\n"
      "exceeded.\n"},
     {"plot", 1, "DIR",
-     "Usage: smoothfold plot DIR\n"
+     "Usage: smoothfold plot DIR [--folds=LIST]\n"
      "Draw the diagrams of the results of `smoothfold run` in DIR with gnuplot\n"
      "(plots/*.gp): stability.png|pdf, eigenvalues.png|pdf, angles.png|pdf for an\n"
-     "equilibrium run, trajectory.png|pdf for a dynamics run.  Which folds\n"
-     "angles.png draws: output.plot_folds of the study (docs/study-format.md).\n"
+     "equilibrium run, trajectory.png|pdf for a dynamics run.  Names and units\n"
+     "come from DIR/study.cfg.  --folds=LIST: the folds angles.png draws, by fold\n"
+     "name, actuation group name or number from 1, comma-separated, or 'all'\n"
+     "(default: all up to 8 folds, one colour each; more folds are coloured by\n"
+     "group, or mountain/valley when the study has no actuation groups).\n"
      "Exit status: 0 drawn, 4 no results in DIR or gnuplot failed.\n"},
     {"compare", 2, "DIR_A DIR_B",
      "Usage: smoothfold compare DIR_A DIR_B [--tol=T]\n"
@@ -164,7 +174,7 @@ static int dispatch(const command *cmd, char **args, sf_options *opt)
     sf_error_clear(&err);
     int rc;
     if (strcmp(cmd->name, "plot") == 0) {
-        rc = sf_cmd_plot(args[0], &err);
+        rc = sf_cmd_plot(args[0], opt->folds, &err);
     } else if (strcmp(cmd->name, "compare") == 0) {
         rc = sf_cmd_compare(args[0], args[1], opt, &err);
     } else {
@@ -176,7 +186,7 @@ static int dispatch(const command *cmd, char **args, sf_options *opt)
             /* --plot on an equilibrium run (a dynamics run draws its own) */
             char branch[1100];
             snprintf(branch, sizeof branch, "%s/branch.tsv", opt->output);
-            if (access(branch, F_OK) == 0) rc = sf_cmd_plot(opt->output, &err);
+            if (access(branch, F_OK) == 0) rc = sf_cmd_plot(opt->output, opt->folds, &err);
         }
     }
     if (rc != SF_OK) {
@@ -186,7 +196,7 @@ static int dispatch(const command *cmd, char **args, sf_options *opt)
     return 0;
 }
 
-enum { OPT_SET = 256, OPT_ANGLES, OPT_FORCE, OPT_PLOT, OPT_NOPLOT, OPT_TOL };
+enum { OPT_SET = 256, OPT_ANGLES, OPT_FORCE, OPT_PLOT, OPT_NOPLOT, OPT_TOL, OPT_FOLDS };
 
 int main(int argc, char **argv)
 {
@@ -199,11 +209,23 @@ int main(int argc, char **argv)
         {"plot", no_argument, NULL, OPT_PLOT},
         {"no-plot", no_argument, NULL, OPT_NOPLOT},
         {"tol", required_argument, NULL, OPT_TOL},
+        {"folds", required_argument, NULL, OPT_FOLDS},
         {"quiet", no_argument, NULL, 'q'},
         {"help", no_argument, NULL, 'h'},
         {"version", no_argument, NULL, 'V'},
         {NULL, 0, NULL, 0},
     };
+    if (argc >= 2 && sf_cmd_is_pattern(argv[1])) {   /* pattern, import, export */
+        sf_error perr;
+        sf_error_clear(&perr);
+        int prc = sf_cmd_pattern(argc - 1, argv + 1, &perr);
+        if (prc == SF_CMD_USAGE) return fail_usage_cmd(perr.msg, argv[1]);
+        if (prc != SF_OK) {
+            fprintf(stderr, "smoothfold: %s\n", perr.msg);
+            return exit_code(perr.code);
+        }
+        return 0;
+    }
     sf_options opt;
     memset(&opt, 0, sizeof opt);
     opt.plot = -1;
@@ -222,6 +244,7 @@ int main(int argc, char **argv)
             break;
         case OPT_ANGLES: opt.angles = optarg; break;
         case OPT_FORCE: opt.force = 1; break;
+        case OPT_FOLDS: opt.folds = optarg; break;
         case OPT_PLOT: opt.plot = 1; break;
         case OPT_NOPLOT: opt.plot = 0; break;
         case OPT_TOL: {
