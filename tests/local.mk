@@ -29,3 +29,5 @@ include tests/paths.mk
 include tests/accuracy.mk
 include tests/cli.mk
 include tests/bifurcation.mk
+include tests/pattern.mk
+include tests/boundary.mk

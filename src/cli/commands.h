@@ -37,4 +37,17 @@ int sf_cli_run_plots(const sf_options *o, sf_error *err);
 /* plots/trajectory.gp on a dynamics run directory (prints nothing). */
 int sf_plot_trajectory(const char *dir, sf_error *err);
 
+/* cmd_pattern.c: the crease-pattern commands pattern, import and export,
+ * with their own options (argv[0] is the command). */
+#define SF_CMD_USAGE (-2)   /* returned for a usage error (message in err): exit 2 */
+int sf_cmd_is_pattern(const char *cmd);
+int sf_cmd_pattern(int argc, char **argv, sf_error *err);
+/* cmd_fold.c: import a FOLD file as a study; export a study as FOLD. */
+struct sf_cp_study_opts;
+int sf_cmd_import(int argc, char **argv, const char *output, const char *unit,
+                  int frame, struct sf_cp_study_opts *so, int nset,
+                  const char **sets, sf_error *err);
+int sf_cmd_export(int argc, char **argv, const char *output, int nset,
+                  const char **sets, sf_error *err);
+
 #endif

@@ -36,6 +36,11 @@ static const char *usage_text =
     "                          PNG and PDF in DIR)\n"
     "  compare DIR_A DIR_B     largest differences between two runs of one sheet\n"
     "                          (probes and fold angles at matched p)\n"
+    "  pattern NAME -o F       generate a tessellation (miura, yoshimura,\n"
+    "                          waterbomb) as a study (.cfg) or FOLD (.fold)\n"
+    "  import P.fold -o S.cfg  a FOLD crease pattern as a ready-to-run study\n"
+    "  export S.cfg -o P.fold  a study's crease pattern as FOLD\n"
+    "                          (smoothfold pattern --help for their options)\n"
     "\n"
     "Options:\n"
     "  -o, --output=PATH       output file (shape) or directory (run)\n"
@@ -206,6 +211,17 @@ int main(int argc, char **argv)
         {"version", no_argument, NULL, 'V'},
         {NULL, 0, NULL, 0},
     };
+    if (argc >= 2 && sf_cmd_is_pattern(argv[1])) {   /* pattern, import, export */
+        sf_error perr;
+        sf_error_clear(&perr);
+        int prc = sf_cmd_pattern(argc - 1, argv + 1, &perr);
+        if (prc == SF_CMD_USAGE) return fail_usage_cmd(perr.msg, argv[1]);
+        if (prc != SF_OK) {
+            fprintf(stderr, "smoothfold: %s\n", perr.msg);
+            return exit_code(perr.code);
+        }
+        return 0;
+    }
     sf_options opt;
     memset(&opt, 0, sizeof opt);
     opt.plot = -1;

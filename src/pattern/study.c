@@ -81,6 +81,7 @@ static const sf_study_key schema[] = {
     {"folds[].material",           STR,   0,              0, 0,       NULL,          NULL, "-", "material (else defaults.material)"},
     {"folds[].group",              STR,   0,              0, 0,       NULL,          NULL, "-", "actuation group the fold belongs to"},
     {"folds[].rest_angle",         NUM,   0,              0, 0,       NULL,          NULL, "rad", "stress-free fold angle (else defaults.rest_angle)"},
+    {"folds[].assignment",         STR,   0,              0, 0,       NULL,          "M|V",   "-", "mountain or valley (valley positive): check rejects a rest angle of the other sign"},
     {"folds[].damping",            NUM,   POS,            0, 0,       NULL,          NULL, "J s", "dynamics: damping coefficient of the fold angle (else analysis.damping)"},
 
     {"fixed_face",                 V2,    REQ,            0, 0,       NULL,          NULL, "m", "a point inside the fixed face"},
@@ -132,7 +133,7 @@ static const sf_study_key schema[] = {
     {"output.plot_folds",          NAMES, 0,              0, 0,       NULL,          NULL, "-", "folds drawn in angles.png: fold names, group names, numbers as text, \"all\""},
 
     {"analysis",                   G,     AUTO,           0, 0,       NULL,          NULL, "-", "what to compute"},
-    {"analysis.type",              STR,   0,              0, 0,       "equilibrium", "equilibrium|dynamics|none", "-", "equilibrium path, dynamic trajectory, or nothing"},
+    {"analysis.type",              STR,   0,              0, 0,       "equilibrium", "equilibrium|dynamics|boundary|none", "-", "equilibrium path, dynamic trajectory, stability boundary in two parameters (docs/bifurcation.md), or nothing"},
     {"analysis.parameter",         STR,   0,              0, 0,       "load",        "load|actuation|displacement", "-", "the parameter p that is varied: load factor, rest angle of an actuation group [rad], or prescribed displacement of a probe [m]"},
     {"analysis.load",              NUM,   NONNEG,         0, 0,       "0.0",         NULL, "-", "load factor held fixed when p is not the load"},
     {"analysis.probe",             STR,   0,              0, 0,       NULL,          NULL, "-", "displacement parameter: the probe whose displacement is prescribed (default: the first probe)"},
@@ -151,6 +152,12 @@ static const sf_study_key schema[] = {
     {"analysis.arpack_maxiter",    INT,   SF_KEY_GE,      1, 0,       "1000",        NULL, "-", "ARPACK restarts per attempt (a non-converged attempt is retried with a larger subspace, then another shift)"},
     {"analysis.arpack_attempts",   INT,   SF_KEY_GE,      1, 0,       "4",           NULL, "-", "ARPACK attempts per point before its stability is marked unknown"},
     {"analysis.branch_depth",      INT,   SF_KEY_GE,      0, 0,       "0",           NULL, "-", "levels of branch switching at branch points (0: none)"},
+    {"analysis.second",            STR,   0,              0, 0,       NULL,          NULL, "-", "boundary: the second parameter, any numeric study key (defaults.width, materials.fold.E, analysis.load, loads[0].force[0], ...)"},
+    {"analysis.second_min",        NUM,   0,              0, 0,       NULL,          NULL, "-", "boundary: smallest value of the second parameter"},
+    {"analysis.second_max",        NUM,   0,              0, 0,       NULL,          NULL, "-", "boundary: largest value of the second parameter"},
+    {"analysis.second_step",       NUM,   POS,            0, 0,       "0.02",        NULL, "-", "boundary: initial step along the curve (arclength in the second parameter relative to its study value, the path parameter and the fold angles)"},
+    {"analysis.second_max_step",   NUM,   POS,            0, 0,       "0.1",         NULL, "-", "boundary: largest step along the curve"},
+    {"analysis.from",              STR,   0,              0, 0,       "any",         "any|LP|BP", "-", "boundary: continue the first limit point (LP), branch point (BP) or either that the path meets"},
     {"analysis.report",            STR,   0,              0, 0,       NULL,          NULL, "-", "probe reported against p (default: the first probe)"},
     {"analysis.duration",          NUM,   POS | DYN,      0, 0,       NULL,          NULL, "s", "length of the trajectory (required for dynamics)"},
     {"analysis.damping",           NUM,   POS | DYN,      0, 0,       "1.0",         NULL, "J s", "damping coefficient of every fold angle without folds[].damping"},
@@ -403,6 +410,7 @@ int sf_study_load(const char *path, int nset, const char *const *sets,
     rc = st_check_group(s, err, config_root_setting(cfg), "");
     if (!rc) rc = st_fill(s, cfg, err);
     if (!rc) rc = st_materialize(s, cfg, err);
+    if (!rc) rc = sf_study_check_assignments(s, err);   /* assignment.c */
     if (rc) {
         sf_study_free(s);
         return rc;
