@@ -28,3 +28,7 @@ EXTRA_DIST += tests/sf_test.h
 include tests/dynamics.mk
 include tests/paths.mk
 include tests/accuracy.mk
+include tests/cli.mk
+include tests/bifurcation.mk
+include tests/pattern.mk
+include tests/boundary.mk
