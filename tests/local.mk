@@ -27,3 +27,6 @@ EXTRA_DIST += tests/sf_test.h
 include tests/dynamics.mk
 include tests/paths.mk
 include tests/accuracy.mk
+# sweeps, serially and under mpirun (src/analysis/sweep.h, docs/sweep.md)
+TESTS += tests/test_sweep.sh
+EXTRA_DIST += tests/test_sweep.sh

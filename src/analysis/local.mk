@@ -7,4 +7,5 @@ src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibri
 	src/analysis/mobility.c src/analysis/mobility.h \
 	src/analysis/compare.c src/analysis/compare.h \
 	src/analysis/stability.c src/analysis/stability.h \
-	src/analysis/dynamics.c src/analysis/dynamics.h
+	src/analysis/dynamics.c src/analysis/dynamics.h \
+	src/analysis/sweep.c src/analysis/sweep_run.c src/analysis/sweep.h

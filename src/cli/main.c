@@ -33,6 +33,9 @@ static const char *usage_text =
     "  run STUDY.cfg -o DIR    run the study's analysis, write results to DIR\n"
     "  plot DIR                draw the diagrams of a run's results (gnuplot;\n"
     "                          PNG and PDF in DIR)\n"
+    "  sweep STUDY.cfg --vary KEY=V1,V2,... -o DIR\n"
+    "                          run variants of a study (serially, or under\n"
+    "                          mpirun); `smoothfold sweep --help`\n"
     "\n"
     "Options:\n"
     "  -o, --output=PATH       output file (shape) or directory (run)\n"
@@ -86,6 +89,7 @@ static void single_threaded_blas(void)
 int main(int argc, char **argv)
 {
     single_threaded_blas();
+    if (argc >= 2 && strcmp(argv[1], "sweep") == 0) return sf_cmd_sweep(argc - 1, argv + 1);
     static const struct option longopts[] = {
         {"output", required_argument, NULL, 'o'},
         {"set", required_argument, NULL, 's'},
@@ -154,7 +158,7 @@ int main(int argc, char **argv)
     else {
         free(sets);
         char msg[256];
-        snprintf(msg, sizeof msg, "unknown command '%s' (commands: check, shape, run, plot)", cmd);
+        snprintf(msg, sizeof msg, "unknown command '%s' (commands: check, shape, run, plot, sweep)", cmd);
         return fail_usage(msg);
     }
     free(sets);
