@@ -1,18 +1,18 @@
 # eigenvalues.gp - the smallest eigenvalues of the constrained Hessian
 # against the parameter, for every branch of a run.
 # usage: gnuplot -c plots/eigenvalues.gp DIR      (reads DIR/branch.tsv)
-# writes DIR/eigenvalues.png and DIR/eigenvalues.pdf: eig1..eigN against p,
-# one colour per branch, one point type per eigenvalue; a zero crossing is
-# a change of stability (limit or branch point).  The y axis is linear
-# near zero and logarithmic far from it (asinh scale), so small
-# eigenvalues stay readable next to large ones.
+# writes DIR/eigenvalues.png and DIR/eigenvalues.pdf: one panel per
+# eigenvalue (eig1..eigN, at most 6), each on a linear axis in its real
+# unit (J per unit of the coordinates: J/rad^2 for fold angles), one colour
+# per branch, the zero line drawn: a zero crossing is a change of stability
+# (limit or branch point).  `smoothfold plot` passes sf_title (study name)
+# and sf_plabel (what p is) from DIR/study.cfg.
 dir = ARG1
 file = dir . "/branch.tsv"
+title0 = exists("sf_title") ? sf_title : dir
+plabel = exists("sf_plabel") ? sf_plabel : "p"
 set datafile separator "\t"
 set datafile commentschars "#"
-set grid
-set key outside right
-set xlabel "p"
 header = system(sprintf("awk '!/^#/ {print; exit}' '%s'", file))
 cn(name) = sum [i = 1:words(header)] (word(header, i) eq name ? i : 0)
 cp = cn("p")
@@ -20,19 +20,31 @@ ne = 0
 do for [i = 1:words(header)] { if (word(header, i)[1:3] eq "eig") { ne = ne + 1 } }
 if (ne == 0) { print sprintf("eigenvalues.gp: %s has no eigenvalue columns (analysis.stability = false): no plot", file); exit }
 ce1 = cn("eig1")
+# columns with at least one value (a problem with fewer coordinates than
+# analysis.eigenvalues leaves the last ones empty)
+ne = int(system(sprintf("awk -F'\t' -v c=%d -v n=%d '!/^#/ && NF > 2 && $1 ~ /^[0-9]+$/ { for (j = n; j > m; j--) if ($(c + j - 1) != \"\") { m = j; break } } END { print m + 0 }' '%s'", ce1, ne, file)))
+if (ne == 0) { print sprintf("eigenvalues.gp: %s has no eigenvalues: no plot", file); exit }
+nshow = (ne > 6) ? 6 : ne
 nb = int(system(sprintf("awk -F'\t' '!/^#/ && NF > 2 && $2 ~ /^[0-9]+$/ {b = $2} END {print b + 0}' '%s'", file)))
 if (nb < 1) { nb = 1 }
-# scale: the smallest nonzero |eig1| sets the linear zone of asinh
-e0 = real(system(sprintf("awk -F'\t' -v c=%d '!/^#/ && $c != \"\" && $c+0 == $c {v = ($c < 0) ? -$c : $c; if (v > 0 && (m == 0 || v < m)) m = v; if (v > M) M = v} END {e = M * 1e-3; print (e > 0) ? e : 1}' '%s'", ce1, file)))
-f(x) = asinh(x / e0)
-set ylabel sprintf("asinh(eig / %.3g J)", e0)
-set title sprintf("%s: smallest eigenvalues of the constrained Hessian", dir) noenhanced
-set xzeroaxis lt -1 lw 1.5
-ev(c) = (strcol(c) eq "") ? NaN : f(column(c))
+ev(c) = (strcol(c) eq "") ? NaN : column(c)
+ncol = (nshow <= 2) ? 1 : 2
+nrow = (nshow + ncol - 1) / ncol
 do for [t in "pngcairo pdfcairo"] {
-    if (t eq "pngcairo") { set terminal pngcairo size 1000,650 enhanced font ",11"; set output dir . "/eigenvalues.png" }
-    else { set terminal pdfcairo size 6.5in,4.2in enhanced font ",10"; set output dir . "/eigenvalues.pdf" }
-    plot for [b = 0:nb-1] for [j = 1:ne] file index b using (column(cp)):(ev(ce1 + j - 1)) with linespoints lw 1.5 pt j ps 0.6 lc b+1 \
-         title (j == 1 ? sprintf("branch %d", b+1) : "")
+    if (t eq "pngcairo") { set terminal pngcairo size 1100,300+260*nrow enhanced font ",10"; set output dir . "/eigenvalues.png" }
+    else { set terminal pdfcairo size 7in,(1.2+1.9*nrow)*1in enhanced font ",8"; set output dir . "/eigenvalues.pdf" }
+    set multiplot layout nrow,ncol title sprintf("%s: smallest eigenvalues of the constrained Hessian%s", \
+        title0, ne > nshow ? sprintf(" (first %d of %d)", nshow, ne) : "") noenhanced
+    set grid
+    set xzeroaxis lt -1 lw 1.5
+    set format y "%.3g"
+    set xlabel plabel noenhanced
+    do for [j = 1:nshow] {
+        set ylabel sprintf("eig%d [J]", j)
+        if (j == 1) { set key top left opaque box samplen 3 } else { unset key }
+        plot for [b = 0:nb-1] file index b using (column(cp)):(ev(ce1 + j - 1)) with linespoints lw 1.5 pt 7 ps 0.35 lc b+1 \
+             title sprintf("branch %d", b+1)
+    }
+    unset multiplot
     unset output
 }

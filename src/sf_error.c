@@ -32,5 +32,14 @@ void sf_error_prefix(sf_error *e, const char *fmt, ...)
     vsnprintf(head, sizeof head, fmt, ap);
     va_end(ap);
     memcpy(old, e->msg, sizeof old);
-    snprintf(e->msg, sizeof e->msg, "%s: %s", head, old);
+    /* head, ": ", then as much of the old message as fits */
+    size_t nh = strlen(head), cap = sizeof e->msg - 1;
+    if (nh > cap) nh = cap;
+    memcpy(e->msg, head, nh);
+    size_t n = nh;
+    for (const char *p = ": "; *p && n < cap; p++) e->msg[n++] = *p;
+    size_t no = strlen(old);
+    if (no > cap - n) no = cap - n;
+    memcpy(e->msg + n, old, no);
+    e->msg[n + no] = '\0';
 }

@@ -19,7 +19,9 @@ enum {
     SF_EIO = 4,       /* file could not be read or written */
     SF_ELOCKED = 5,   /* constraints leave no motion */
     SF_EINTERNAL = 6,
-    SF_ETOLERANCE = 7 /* a reference comparison exceeded its declared tolerance */
+    SF_ETOLERANCE = 7, /* a reference comparison exceeded its declared tolerance */
+    SF_ESHORT = 8,    /* a run stopped before the end of its range (max_steps) */
+    SF_EDIFFER = 9    /* compare: two runs differ by more than the tolerance */
 };
 
 typedef struct sf_error {

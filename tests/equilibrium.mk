@@ -14,3 +14,10 @@ TESTS += tests/test_stability
 tests_test_stability_SOURCES = tests/test_stability.c
 tests_test_stability_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_stability_LDADD = $(SF_TEST_LIBS)
+
+# the MUMPS wrapper and the sparse stability entry point, against closed forms
+check_PROGRAMS += tests/test_sstab
+TESTS += tests/test_sstab
+tests_test_sstab_SOURCES = tests/test_sstab.c
+tests_test_sstab_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_sstab_LDADD = $(SF_TEST_LIBS)

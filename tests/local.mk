@@ -27,6 +27,10 @@ EXTRA_DIST += tests/sf_test.h
 include tests/dynamics.mk
 include tests/paths.mk
 include tests/accuracy.mk
+include tests/cli.mk
+include tests/bifurcation.mk
+include tests/pattern.mk
+include tests/boundary.mk
 # sweeps, serially and under mpirun (src/analysis/sweep.h, docs/sweep.md)
 TESTS += tests/test_sweep.sh
 EXTRA_DIST += tests/test_sweep.sh

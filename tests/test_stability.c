@@ -390,6 +390,50 @@ static void test_dense_vs_arpack(void **state)
                     "--set analysis.max_step=0.05");
 }
 
+/* ARPACK never ends a run.  With one restart per attempt the first
+ * attempts fail at every point of square4-inplane; the retries (larger
+ * subspace) converge to the dense method's eigenvalues (1e-8, same Morse
+ * index) and branch.tsv says so.  With a single attempt every point fails:
+ * the run still succeeds, stable is empty (unknown) where the Morse index
+ * (from the MUMPS inertia) is 0 and 0 where it is positive, no
+ * eigenvalue is written, and a note gives the reason. */
+static void test_arpack_retry_unknown(void **state)
+{
+    (void)state;
+    const char *base = "--set analysis.branch_depth=0 --set analysis.end=0.5 "
+                       "--set analysis.max_step=0.05 --set analysis.arpack_maxiter=1";
+    compare_solvers("square4-inplane", base);
+    char d[1024], x[1024];
+    tsv A, B;
+    run_study("square4-inplane", d, sizeof d, "--set analysis.eigensolver=\\\"arpack\\\" "
+              "--set analysis.branch_depth=0 --set analysis.end=0.5 --set analysis.max_step=0.05 "
+              "--set analysis.arpack_maxiter=1");
+    read_out(d, "branch.tsv", &A);
+    assert_non_null(strstr(A.header, "retried, converged after"));
+    assert_non_null(strstr(A.header, "attempt 1: ARPACK dsaupd info 1"));
+    tsv_free(&A);
+    snprintf(x, sizeof x, "--set analysis.eigensolver=\\\"arpack\\\" %s "
+             "--set analysis.arpack_attempts=1", base);
+    run_study("square4-inplane", d, sizeof d, x);
+    read_out(d, "branch.tsv", &B);
+    assert_non_null(strstr(B.header, "UNKNOWN after 1 ARPACK attempt(s): attempt 1: ARPACK dsaupd"));
+    int unknown = 0, unstable = 0;
+    for (int r = 0; r < B.nrow; r++) {
+        int morse = (int)tsv_num(&B, r, "morse");
+        const char *st = tsv_str(&B, r, "stable");
+        assert_string_equal(tsv_str(&B, r, "eig1"), "");
+        if (morse == 0) {
+            assert_string_equal(st, "");
+            unknown++;
+        } else {
+            assert_string_equal(st, "0");
+            unstable++;
+        }
+    }
+    assert_true(unknown > 0 && unstable > 0);
+    tsv_free(&B);
+}
+
 /* Branch switching with the sparse linear solver (KLU): fold1-buckle's
  * one-coordinate problem, where [Jy Fp] vanishes as a whole at the branch
  * point, gives the dense run's three branches, point for point. */
@@ -709,6 +753,7 @@ int main(void)
         cmocka_unit_test(test_buckle_closed_form),
         cmocka_unit_test(test_snap_limit_points),
         cmocka_unit_test(test_dense_vs_arpack),
+        cmocka_unit_test(test_arpack_retry_unknown),
         cmocka_unit_test(test_no_spurious_zero),
         cmocka_unit_test(test_sparse_switching),
         cmocka_unit_test(test_square4_inplane),

@@ -1,11 +1,16 @@
 # src/analysis/: what is computed from the model: the equilibrium problem,
-# the flat start, stability, mobility, reactions, dynamics, comparison with
-# reference data.
+# the flat start, stability, bifurcation bookkeeping, mobility, reactions,
+# dynamics, comparison with reference data.
 src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibrium.h \
 	src/analysis/flatstart.c src/analysis/flatstart.h \
 	src/analysis/reactions.c src/analysis/reactions.h \
 	src/analysis/mobility.c src/analysis/mobility.h \
-	src/analysis/compare.c src/analysis/compare.h \
+	src/analysis/compare.c src/analysis/compare.h src/analysis/compare_impl.h \
+	src/analysis/compare_read.c src/analysis/compare_eval.c src/analysis/compare_write.c \
 	src/analysis/stability.c src/analysis/stability.h \
+	src/analysis/ldlt.c src/analysis/ldlt.h \
+	src/analysis/sstab.c src/analysis/sstab.h \
+	src/analysis/bifurcation.c src/analysis/bifurcation.h \
 	src/analysis/dynamics.c src/analysis/dynamics.h \
+	src/analysis/boundary.c src/analysis/boundary.h \
 	src/analysis/sweep.c src/analysis/sweep_run.c src/analysis/sweep.h

@@ -11,24 +11,16 @@
  *    formed and diagonalised completely (dsyev).  Exact Morse index, all
  *    eigenvalues; O(nq^3).  For small problems and as the reference.
  *  - ARPACK, shift-invert on the KKT pencil  [HL C^T; C 0] v = mu [I 0; 0 0] v:
- *    the operator x -> u with [HL - sigma I, Cr^T; Cr, 0] [u; nu] = [x; 0]
+ *    the operator x -> u with [HL - sigma I, C^T; C, 0] [u; nu] = [x; 0]
  *    is symmetric on R^nq, vanishes on range(C^T) and equals
  *    Z (H_c - sigma)^-1 Z^T on null(C), so its largest eigenvalues
  *    1/(mu - sigma) give the eigenvalues mu of H_c nearest sigma, and
- *    constraint directions can never appear as eigenvalues (they map to 0,
- *    the end of the spectrum ARPACK never asks for).  Z is never formed.
- *    Cr are linearly independent constraint rows (QR with column pivoting
- *    of C^T, dgeqp3), so redundant loop rows (e.g. at the flat state) leave
- *    the KKT matrix regular.  The KKT matrix is factorised once per point
- *    (LAPACK dsytrf, symmetric indefinite); its inertia gives the Morse
- *    index exactly (Sylvester: inertia(K) = inertia(H_c - sigma) + (r, r, 0)).
- *    sigma = -1e-6 * scale when the point is stable, so the eigenvalues
- *    nearest sigma are the smallest; otherwise sigma is a Gershgorin lower
- *    bound of HL, below every eigenvalue of H_c.
- *    The corrector's factorisation is not reused: KINSOL factorises the
- *    bordered, unsymmetric (n+1) matrix at the last Newton iterate, with the
- *    multiplier block regularised; the symmetric KKT matrix at the converged
- *    point costs one more factorisation of the same size.
+ *    constraint directions can never appear as eigenvalues.  Z is never
+ *    formed.  The blocks are handed to sstab.h as sparse matrices: the KKT
+ *    matrix is factorised by MUMPS, whose inertia gives the Morse index
+ *    (redundant constraint rows show as null pivots), ARPACK's operator is
+ *    a MUMPS solve, and a non-converged ARPACK run is retried, then
+ *    marked unknown (res.status, res.reason) instead of failing.
  * SF_EIG_AUTO uses dense up to SF_EIG_DENSE_MAX coordinates, ARPACK
  * above; ARPACK falls back to dense when the tangent space is too small for
  * it (fewer than nev + 2 dimensions).  Measured on square4 with K = 2 (72
@@ -40,6 +32,7 @@
 
 #include "equilibrium.h"
 #include "sf_error.h"
+#include "sstab.h"
 
 enum { SF_EIG_AUTO = 0, SF_EIG_DENSE = 1, SF_EIG_ARPACK = 2 };
 #define SF_EIG_DENSE_MAX 200
@@ -49,11 +42,15 @@ typedef struct sf_stab_result {
     int rank;          /* rank of the constraint rows */
     int dim;           /* dimension of the tangent space, nq - rank */
     int morse;         /* negative eigenvalues of H_c */
-    int stable;        /* 1 if all eigenvalues of H_c are positive */
+    int stable;        /* 1 if all eigenvalues of H_c are positive, 0 if not,
+                          -1 unknown (ARPACK failed and the index is 0) */
     int neig;          /* eigenvalues in eig (min(nev, dim)) */
     double *eig;       /* [nev] smallest eigenvalues, ascending */
     int iters;         /* ARPACK restarts (0 for dense) */
     int nop;           /* ARPACK operator applications */
+    int status;        /* SF_SSTAB_OK, SF_SSTAB_RETRIED, SF_SSTAB_UNKNOWN (sstab.h) */
+    int attempts;      /* ARPACK attempts (0 for dense, 1 without retry) */
+    char reason[200];  /* what was retried or failed ("" when nothing) */
 } sf_stab_result;
 
 typedef struct sf_stab {
@@ -62,6 +59,9 @@ typedef struct sf_stab {
     double *work;          /* scratch */
     size_t nwork;
     int *iwork;
+    sf_sstab *sp;          /* the ARPACK method (MUMPS + ARPACK) */
+    int arpack_maxiter;    /* 0: sstab.h default; set before the first eval */
+    int arpack_attempts;   /* 0: sstab.h default */
     sf_stab_result res;
 } sf_stab;
 

@@ -311,7 +311,7 @@ int sf_sweep_spawn(const sf_sweep_plan *pl, const char *dir, int v, const char *
     snprintf(log, sizeof log, "%s/row.tsv", vd);
     remove(log);
     snprintf(log, sizeof log, "%s/run.log", vd);
-    int nargs = 7 + 2 * (pl->nbase + pl->nkeys);
+    int nargs = 8 + 2 * (pl->nbase + pl->nkeys);
     char **argv = calloc((size_t)nargs + 1, sizeof *argv);
     char **sets = calloc((size_t)pl->nkeys + 1, sizeof *sets);
     size_t nenv = 0;
@@ -342,6 +342,7 @@ int sf_sweep_spawn(const sf_sweep_plan *pl, const char *dir, int v, const char *
         argv[a++] = "-o";
         argv[a++] = vd;
         argv[a++] = "-q";
+        argv[a++] = "--force";   /* run.log is ours: run keeps it */
         size_t e = 0;
         for (size_t i = 0; i < nenv; i++)
             if (!launcher_var(environ[i])) env[e++] = environ[i];

@@ -3,9 +3,7 @@
 #include "commands.h"
 
 #include <errno.h>
-#include <spawn.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,6 +12,7 @@
 #include "compare.h"
 #include "kinematics.h"
 #include "mobility.h"
+#include "outdir.h"
 #include "scene.h"
 #include "study.h"
 #include "topology.h"
@@ -128,6 +127,16 @@ int sf_cmd_check(const sf_options *o, sf_error *err)
     return rc;
 }
 
+int sf_cli_outdir(const sf_options *o, const char *dir, sf_error *err)
+{
+    int removed = 0;
+    if (sf_outdir_prepare(dir, o->force, &removed, err)) return err->code;
+    if (removed && !o->quiet)
+        fprintf(stderr, "smoothfold: note: removed %d file%s of an earlier run from %s "
+                "(results, shapes, plots)\n", removed, removed == 1 ? "" : "s", dir);
+    return SF_OK;
+}
+
 /* Parse --angles: one value for all folds, or one per fold. */
 static int parse_angles(const char *txt, int nfolds, double *theta, sf_error *err)
 {
@@ -198,87 +207,4 @@ int sf_cmd_shape(const sf_options *o, sf_error *err)
     free(theta);
     sf_scene_close(&sc);
     return rc;
-}
-
-
-#ifndef SF_SRCDIR
-#define SF_SRCDIR "."
-#endif
-
-extern char **environ;
-
-/* gnuplot -c SCRIPT DIR; the scripts live in plots/ of the source tree
- * (or where SMOOTHFOLD_PLOTS points). */
-static int run_gnuplot(const char *script, const char *dir, sf_error *err)
-{
-    char *argv[] = {"gnuplot", "-c", (char *)script, (char *)dir, NULL};
-    pid_t pid;
-    int rc = posix_spawnp(&pid, "gnuplot", NULL, NULL, argv, environ);
-    if (rc != 0)
-        return sf_fail(err, SF_EIO, "plot: cannot run gnuplot (%s); install it with "
-                       "apt-get install gnuplot-nox", strerror(rc));
-    int status;
-    if (waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        return sf_fail(err, SF_EIO, "plot: gnuplot failed on %s", script);
-    return SF_OK;
-}
-
-/* Run plots/NAME for each name of scripts on dir. */
-static int run_scripts(const char *dir, const char *const *scripts, int n, sf_error *err)
-{
-    char pdir[1024], script[1200];
-    struct stat st;
-    const char *env = getenv("SMOOTHFOLD_PLOTS");
-    snprintf(pdir, sizeof pdir, "%s", env && env[0] ? env : SF_SRCDIR "/plots");
-    for (int i = 0; i < n; i++) {
-        snprintf(script, sizeof script, "%s/%s", pdir, scripts[i]);
-        if (stat(script, &st) != 0)
-            return sf_fail(err, SF_EIO, "plot: %s not found (set SMOOTHFOLD_PLOTS to the plots/ "
-                           "directory)", script);
-        if (run_gnuplot(script, dir, err)) return err->code;
-    }
-    return SF_OK;
-}
-
-int sf_plot_trajectory(const char *dir, sf_error *err)
-{
-    const char *scripts[] = {"trajectory.gp"};
-    return run_scripts(dir, scripts, 1, err);
-}
-
-int sf_cmd_plot(const char *dir, sf_error *err)
-{
-    char branch[1200], traj[1200];
-    struct stat st;
-    snprintf(branch, sizeof branch, "%s/branch.tsv", dir);
-    snprintf(traj, sizeof traj, "%s/trajectory.tsv", dir);
-    int have_branch = stat(branch, &st) == 0, have_traj = stat(traj, &st) == 0;
-    char sweep[1200];
-    snprintf(sweep, sizeof sweep, "%s/sweep.tsv", dir);
-    if (!have_branch && !have_traj && stat(sweep, &st) == 0) {
-        const char *scripts[] = {"sweep.gp"};   /* a sweep directory (docs/sweep.md) */
-        if (run_scripts(dir, scripts, 1, err)) return err->code;
-        printf("wrote %s/sweep.png, sweep.pdf\n", dir);
-        return SF_OK;
-    }
-    if (!have_branch && !have_traj)
-        return sf_fail(err, SF_EIO, "plot: %s: no such file (run `smoothfold run STUDY.cfg -o %s` "
-                       "first)", branch, dir);
-    if (have_branch) {
-        const char *scripts[] = {"stability.gp", "eigenvalues.gp", "angles.gp"};
-        if (run_scripts(dir, scripts, 3, err)) return err->code;
-        printf("wrote in %s:", dir);
-        const char *outs[] = {"stability", "eigenvalues", "angles"};
-        for (size_t i = 0; i < sizeof outs / sizeof *outs; i++) {
-            char f[1200];
-            snprintf(f, sizeof f, "%s/%s.png", dir, outs[i]);
-            if (stat(f, &st) == 0) printf(" %s.png|pdf", outs[i]);
-        }
-        printf("\n");
-    }
-    if (have_traj) {
-        if (sf_plot_trajectory(dir, err)) return err->code;
-        printf("wrote %s/trajectory.png, trajectory.pdf\n", dir);
-    }
-    return SF_OK;
 }

@@ -12,6 +12,11 @@ typedef struct sf_options {
     int nset;
     const char *angles;
     int quiet;
+    int force;        /* run: write into a directory holding other files */
+    int plot;         /* run: 1 draw plots, 0 do not, -1 as output.plots says */
+    double tol;       /* compare: --tol (when have_tol) */
+    int have_tol;
+    const char *folds; /* plot: --folds selection */
 } sf_options;
 
 int sf_cmd_check(const sf_options *o, sf_error *err);
@@ -20,9 +25,29 @@ int sf_cmd_run(const sf_options *o, sf_error *err);
 /* `smoothfold sweep STUDY.cfg [OPTION]...` (argv[0] = "sweep"): parses
  * its own options, returns the exit status (sweep.c, docs/sweep.md). */
 int sf_cmd_sweep(int argc, char **argv);
-/* Run the gnuplot scripts of plots/ on a run directory. */
-int sf_cmd_plot(const char *dir, sf_error *err);
+/* Prepare the output directory of a run (outdir.h: own earlier outputs
+ * removed, a foreign non-empty directory refused without --force); says
+ * on stderr what it removed unless quiet. */
+int sf_cli_outdir(const sf_options *o, const char *dir, sf_error *err);
+/* Differences between two equilibrium runs (cmp_runs.c). */
+int sf_cmd_compare(const char *dir_a, const char *dir_b, const sf_options *o, sf_error *err);
+/* Run the gnuplot scripts of plots/ on a run directory (plot.c); folds:
+ * which folds angles.png draws (names, groups, numbers, "all"), or NULL. */
+int sf_cmd_plot(const char *dir, const char *folds, sf_error *err);
 /* plots/trajectory.gp on a dynamics run directory (prints nothing). */
 int sf_plot_trajectory(const char *dir, sf_error *err);
+
+/* cmd_pattern.c: the crease-pattern commands pattern, import and export,
+ * with their own options (argv[0] is the command). */
+#define SF_CMD_USAGE (-2)   /* returned for a usage error (message in err): exit 2 */
+int sf_cmd_is_pattern(const char *cmd);
+int sf_cmd_pattern(int argc, char **argv, sf_error *err);
+/* cmd_fold.c: import a FOLD file as a study; export a study as FOLD. */
+struct sf_cp_study_opts;
+int sf_cmd_import(int argc, char **argv, const char *output, const char *unit,
+                  int frame, struct sf_cp_study_opts *so, int nset,
+                  const char **sets, sf_error *err);
+int sf_cmd_export(int argc, char **argv, const char *output, int nset,
+                  const char **sets, sf_error *err);
 
 #endif

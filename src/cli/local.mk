@@ -1,6 +1,8 @@
 # src/cli/: the smoothfold program: option parsing and one file per command.
 src_smoothfold_SOURCES += src/cli/main.c src/cli/commands.c src/cli/commands.h \
-	src/cli/run.c src/cli/run_dynamics.c src/cli/run_dynamics.h \
+	src/cli/run.c src/cli/run_dynamics.c src/cli/run_dynamics.h src/cli/cmp_runs.c src/cli/plot.c \
+	src/cli/cmd_pattern.c src/cli/cmd_fold.c \
+	src/cli/run_boundary.c src/cli/run_boundary.h \
 	src/cli/sweep.c src/cli/sweep_cli.c src/cli/sweep_cli.h
 EXTRA_DIST += plots/sweep.gp src/cli/sweep_mpi.c
 
@@ -17,4 +19,4 @@ src_smoothfold_sweep_mpi_CPPFLAGS = $(MPI_CFLAGS) $(AM_CPPFLAGS)
 src_smoothfold_sweep_mpi_LDFLAGS = -Wl,--as-needed
 src_smoothfold_sweep_mpi_LDADD = $(MPI_LIBS) src/libsmoothfold.a $(LIBCONFIG_LIBS) -lm
 endif
-EXTRA_DIST += plots/stability.gp plots/eigenvalues.gp plots/angles.gp plots/trajectory.gp
+EXTRA_DIST += plots/stability.gp plots/eigenvalues.gp plots/angles.gp plots/trajectory.gp plots/boundary.gp

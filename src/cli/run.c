@@ -12,11 +12,13 @@
 #include <sys/stat.h>
 #include <time.h>
 
+#include "bifurcation.h"
 #include "commands.h"
 #include "compare.h"
 #include "cont.h"
 #include "equilibrium.h"
 #include "outbuf.h"
+#include "run_boundary.h"
 #include "run_dynamics.h"
 #include "flatstart.h"
 #include "mobility.h"
@@ -32,18 +34,6 @@
 
 /* Finite numbers only: a non-finite value never reaches an output file. */
 static double fin(double v) { return isfinite(v) ? v : 0.0; }
-
-/* A branch point met along a branch, for switching. */
-typedef struct run_bp {
-    double *y, *ty;
-    double p, tp;
-    int depth;            /* depth of the branch it was found on */
-    int branch;           /* that branch */
-    long point;           /* its row in branch.tsv */
-    int switched;         /* 1 once the branches through it were started */
-} run_bp;
-
-#define RUN_MAX_BRANCHES 64
 
 typedef struct run_ctx {
     sf_scene *sc;
@@ -65,11 +55,9 @@ typedef struct run_ctx {
     int do_stab, nev;
     sf_stab stab;
     long neig_method[3];  /* points analysed by each SF_EIG_* method */
-    /* branches: the one being followed, and the branch points still to
-     * switch at (breadth first, up to depth analysis.branch_depth) */
-    int branch, nbranches, depth, max_depth;
-    run_bp *bp;
-    int nbp, capbp, nextbp;
+    /* branches (numbering, branch points, switching) and the Morse-index
+     * check between consecutive points (bifurcation.h) */
+    sf_bif bif;
     sf_outbuf bnotes;
     int skip_start;       /* the next point repeats the last one (stage restart) */
     double seg_end;       /* end of the stage being followed (multi-stage loads) */
@@ -77,14 +65,6 @@ typedef struct run_ctx {
     sf_compare *cmp;      /* reference data of the study (compare.h), or NULL */
     int compared;         /* comparison done */
     cont_stats tot;       /* solver totals of the path (before the comparison) */
-    /* Morse-index check between consecutive points of a branch (locate
-     * crossings the engine's LP/BP tests cannot see, see check_morse) */
-    cont_solver *aux;     /* fixed-p solves while locating (not the path's solver) */
-    int prev_ok, prev_lo, prev_hi, prev_dim, prev_neig;
-    long prev_row;
-    double prev_p, prev_sarc;
-    double *prev_y, *prev_eig, *ya, *yb, *yt;
-    int in_check;
 } run_ctx;
 
 static double now(void)
@@ -118,46 +98,6 @@ static void branch_note(run_ctx *r, const char *fmt, ...)
     if (!r->opt->quiet) fprintf(stderr, "%s\n", line);
 }
 
-/* Remember a branch point for switching, unless it is one already known
- * (a branch may run into a point it started from). */
-static int remember_bp(run_ctx *r, const cont_point *pt)
-{
-    sf_equil *eq = &r->eq;
-    int n = eq->n;
-    if (!pt->ty || r->depth >= r->max_depth) return 0;
-    for (int i = 0; i < r->nbp; i++) {
-        const run_bp *b = &r->bp[i];
-        double d = fabs(b->p - pt->p) / (1.0 + fabs(pt->p));
-        for (int j = 0; j < eq->nq; j++) d = fmax(d, fabs(b->y[j] - pt->y[j]) / (1.0 + fabs(pt->y[j])));
-        if (d < 1e-6) return 0;
-    }
-    if (r->nbp == r->capbp) {
-        int cap = r->capbp ? 2 * r->capbp : 8;
-        run_bp *nb = realloc(r->bp, (size_t)cap * sizeof *nb);
-        if (!nb) return sf_fail(r->err, SF_ENOMEM, "out of memory");
-        r->bp = nb;
-        r->capbp = cap;
-    }
-    run_bp *b = &r->bp[r->nbp];
-    memset(b, 0, sizeof *b);
-    b->y = malloc(sizeof(double) * (size_t)n);
-    b->ty = malloc(sizeof(double) * (size_t)n);
-    if (!b->y || !b->ty) {
-        free(b->y);
-        free(b->ty);
-        return sf_fail(r->err, SF_ENOMEM, "out of memory");
-    }
-    memcpy(b->y, pt->y, sizeof(double) * (size_t)n);
-    memcpy(b->ty, pt->ty, sizeof(double) * (size_t)n);
-    b->p = pt->p;
-    b->tp = pt->tp;
-    b->depth = r->depth;
-    b->branch = r->branch;
-    b->point = r->npoints;
-    r->nbp++;
-    return 0;
-}
-
 /* Stability columns (stable, morse, eig1..eigN) of a row; empty fields
  * where there is no value (stability off, or fewer eigenvalues). */
 static void stab_fields(run_ctx *r, sf_outbuf *b)
@@ -168,7 +108,8 @@ static void stab_fields(run_ctx *r, sf_outbuf *b)
         for (int i = 0; i < r->nev; i++) sf_outbuf_printf(b, "\t");
         return;
     }
-    sf_outbuf_printf(b, "\t%d\t%d", R->stable, R->morse);
+    if (R->stable < 0) sf_outbuf_printf(b, "\t\t%d", R->morse); /* unknown: empty */
+    else sf_outbuf_printf(b, "\t%d\t%d", R->stable, R->morse);
     for (int i = 0; i < r->nev; i++) {
         if (i < R->neig && isfinite(R->eig[i])) sf_outbuf_printf(b, "\t%.13g", R->eig[i]);
         else sf_outbuf_printf(b, "\t");
@@ -176,349 +117,6 @@ static void stab_fields(run_ctx *r, sf_outbuf *b)
 }
 
 static int write_point(run_ctx *r, const cont_point *pt);
-
-/* ---------------------------------------------------------------------- */
-/* Stability changes the LP/BP tests miss                                 */
-/* ---------------------------------------------------------------------- */
-/* The engine finds a branch point from a sign change of det [Jy Fp; t^T]
- * between two points, so it misses two eigenvalues of H_c crossing zero in
- * one step: a double eigenvalue of a symmetric sheet (the buckling modes of
- * square4 come in pairs), or two simple crossings close together.  The
- * Morse index sees them.  Between consecutive points a and b of a branch,
- * the index may change by the crossings at a or b themselves (an LP or BP
- * the engine located has one eigenvalue at zero, counted either way); any
- * further change is located here, eigenvalue by eigenvalue, by regula falsi
- * (Illinois) on p with fixed-p solves, and written as a row of its own:
- * type BP for one eigenvalue, BPk for k eigenvalues crossing together (a
- * k-dimensional kernel: a multiple branch point, whose branches are not
- * followed).  A change that cannot be located is stated in a note. */
-
-/* Bounds on the index at a point: lo..hi negative eigenvalues, allowing
- * for the one at zero of an LP/BP the engine located. */
-static void morse_bounds(const sf_stab_result *R, const cont_point *pt, int at_bp, int *lo, int *hi)
-{
-    /* the index from the signs of the eigenvalues when all the negative
-     * ones are among those computed (ARPACK's inertia count and its
-     * eigenvalues may disagree about one at round-off distance from 0) */
-    int neg = R->morse;
-    if (R->neig > R->morse) {
-        neg = 0;
-        for (int i = 0; i < R->neig; i++) neg += R->eig[i] < 0;
-    }
-    *lo = *hi = neg;
-    int located = at_bp || strcmp(pt->label, "LP") == 0 || strcmp(pt->label, "BP") == 0;
-    if (located && R->neig > 0) {
-        int k = 0;
-        for (int i = 1; i < R->neig; i++)
-            if (fabs(R->eig[i]) < fabs(R->eig[k])) k = i;
-        if (R->eig[k] < 0) (*lo)--;
-        else (*hi)++;
-    }
-}
-
-static void remember_prev(run_ctx *r, const cont_point *pt)
-{
-    const sf_stab_result *R = &r->stab.res;
-    int n = r->eq.n;
-    if (!r->prev_y) {
-        r->prev_y = malloc(sizeof(double) * (size_t)(4 * n + r->nev + 1));
-        if (!r->prev_y) { r->prev_ok = 0; return; }
-        r->ya = r->prev_y + n;
-        r->yb = r->ya + n;
-        r->yt = r->yb + n;
-        r->prev_eig = r->yt + n;
-    }
-    memcpy(r->prev_y, pt->y, sizeof(double) * (size_t)n);
-    r->prev_p = pt->p;
-    r->prev_sarc = pt->s + r->s_offset;
-    /* the first point of a switched branch is the branch point it starts from */
-    morse_bounds(R, pt, pt->index == 0 && r->branch > 1, &r->prev_lo, &r->prev_hi);
-    r->prev_dim = R->dim;
-    r->prev_neig = R->neig;
-    for (int i = 0; i < R->neig && i < r->nev; i++) r->prev_eig[i] = R->eig[i];
-    r->prev_row = r->npoints - 1;
-    r->prev_ok = 1;
-}
-
-/* Solve at fixed p from the guess interpolated between the bracket ends
- * (ya at pa, yb at pb) into yt, then its stability.  Fails (returns 1)
- * when Newton fails or leaves that stretch of the branch. */
-static int solve_at(run_ctx *r, double pa, double pb, double p)
-{
-    int n = r->eq.n;
-    double t = (p - pa) / (pb - pa), span = 0.0, dist = 0.0;
-    for (int i = 0; i < n; i++) {
-        r->yt[i] = r->ya[i] + t * (r->yb[i] - r->ya[i]);
-        span = fmax(span, fabs(r->yb[i] - r->ya[i]) * r->eq.yscale[i]);
-    }
-    const double *g = r->yt;    /* the guess */
-    double *y = malloc(sizeof(double) * (size_t)n);
-    if (!y) return 1;
-    memcpy(y, g, sizeof(double) * (size_t)n);
-    int ok = cont_solve_fixed(r->aux, y, p) == CONT_OK;
-    for (int i = 0; ok && i < n; i++) {
-        if (!isfinite(y[i])) ok = 0;
-        else dist = fmax(dist, fabs(y[i] - g[i]) * r->eq.yscale[i]);
-    }
-    if (ok && dist > span + 1e-8) ok = 0;
-    if (ok) memcpy(r->yt, y, sizeof(double) * (size_t)n);
-    free(y);
-    if (!ok) return 1;
-    sf_error e;
-    sf_error_clear(&e);
-    return sf_stab_eval(&r->stab, &r->eq, r->yt, p, &e) != SF_OK;
-}
-
-/* The j-th smallest eigenvalue (1-based) at the last solve_at, or, when
- * the method did not compute that many, the sign of the index test. */
-static double eig_j(const run_ctx *r, int j, int *exact)
-{
-    const sf_stab_result *R = &r->stab.res;
-    *exact = j <= R->neig;
-    if (*exact) return R->eig[j - 1];
-    return R->morse >= j ? -1.0 : 1.0;
-}
-
-/* Locate the zero of the j-th eigenvalue (1-based) between the points
- * a (ya, pa), where it is fa (its sign only unless known_a), and b (yb,
- * pb), where it has the other sign: regula falsi with the Illinois
- * modification on the eigenvalue where the method computed it, bisection
- * on the index otherwise.  Leaves the solution in r->yt and its p in
- * *p_out; returns the final bracket width in p, or -1 when the zero cannot
- * be located. */
-static double locate_eig(run_ctx *r, const double *ya, double pa, double fa, int known_a,
-                         const double *yb, double pb, int j, double *p_out)
-{
-    int n = r->eq.n;
-    double pa0 = pa, pb0 = pb;
-    memmove(r->ya, ya, sizeof(double) * (size_t)n);
-    memmove(r->yb, yb, sizeof(double) * (size_t)n);
-    int known_b = 0, side = 0;
-    double fb = fa > 0 ? -1.0 : 1.0;
-    double tol = 1e-10 * (1.0 + fabs(pa) + fabs(pb));
-    int hit = 0;
-    for (int it = 0; it < 100 && fabs(pb - pa) > tol; it++) {
-        double p = known_a && known_b && fa != fb ? pb - fb * (pb - pa) / (fb - fa) : 0.5 * (pa + pb);
-        if (!(p > fmin(pa, pb) && p < fmax(pa, pb))) p = 0.5 * (pa + pb);
-        int failed = solve_at(r, pa, pb, p);
-        if (failed && p != 0.5 * (pa + pb)) {
-            /* the secant point may sit on the singular point itself */
-            p = 0.5 * (pa + pb);
-            failed = solve_at(r, pa, pb, p);
-        }
-        if (failed) break;
-        int exact;
-        double f = eig_j(r, j, &exact);
-        if (f == 0.0) { pa = pb = p; hit = 1; break; }
-        if ((f > 0) == (fa > 0)) {
-            pa = p; fa = f; known_a = exact;
-            memcpy(r->ya, r->yt, sizeof(double) * (size_t)n);
-            if (side == -1) fb *= 0.5;   /* the same end moved twice: Illinois */
-            side = -1;
-        } else {
-            pb = p; fb = f; known_b = exact;
-            memcpy(r->yb, r->yt, sizeof(double) * (size_t)n);
-            if (side == 1) fa *= 0.5;
-            side = 1;
-        }
-    }
-    *p_out = 0.5 * (pa + pb);
-    if (hit || !solve_at(r, pa, pb, *p_out)) return fabs(pb - pa);
-    /* Newton at fixed p fails next to a singular point (the Jacobian is
-     * singular where the eigenvalue vanishes): keep the bracket reached,
-     * if any, with its end nearer the zero (one solved here, not a or b) */
-    if (side == 0) return -1.0;
-    int use_a = known_a && known_b ? fabs(fa) <= fabs(fb) : side == -1;
-    if (use_a && pa == pa0) use_a = 0;
-    if (!use_a && pb == pb0) use_a = 1;
-    memcpy(r->yt, use_a ? r->ya : r->yb, sizeof(double) * (size_t)n);
-    *p_out = use_a ? pa : pb;
-    sf_error e;
-    sf_error_clear(&e);
-    if (sf_stab_eval(&r->stab, &r->eq, r->yt, *p_out, &e)) return -1.0;
-    return fabs(pb - pa);
-}
-
-static int check_morse(run_ctx *r, const cont_point *pt)
-{
-    const sf_stab_result *R = &r->stab.res;
-    int lo, hi;
-    morse_bounds(R, pt, 0, &lo, &hi);
-    if (!r->prev_ok || r->branch_first || r->in_check || R->dim != r->prev_dim) return 0;
-    int up = lo - r->prev_hi, down = r->prev_lo - hi;
-    if (up <= 0 && down <= 0) return 0;
-    int j0 = up > 0 ? r->prev_hi + 1 : hi + 1, j1 = up > 0 ? lo : r->prev_lo;
-    int n = r->eq.n, morse_b = R->morse;
-    long row_a = r->prev_row;
-    double pa = r->prev_p, pb = pt->p, sa = r->prev_sarc, sb = pt->s + r->s_offset;
-    if (fabs(pb - pa) <= 1e-12 * (1.0 + fabs(pa))) {
-        branch_note(r, "stability changes between rows %ld and %ld (branch %d, p = %.10g): the "
-                    "Morse index goes from %d to %d, not located (p does not change there)",
-                    row_a, r->npoints, r->branch, pb, r->prev_lo, morse_b);
-        return 0;
-    }
-    if (!r->aux) {
-        if (sf_equil_create_solver(&r->eq, &r->aux) != CONT_OK) return 0;
-        cont_set_newton(r->aux, r->sc->study.tolerance > 0 ? r->sc->study.tolerance : 1e-10, 12, 0);
-    }
-    /* every crossing eigenvalue, then the crossings grouped by place */
-    int nc = j1 - j0 + 1;
-    double *pc = malloc(sizeof(double) * (size_t)nc * (size_t)(n + 2));
-    if (!pc) return sf_fail(r->err, SF_ENOMEM, "out of memory");
-    double *wc = pc + nc, *yc = wc + nc;
-    int nloc = 0;
-    r->in_check = 1;
-    for (int j = j0; j <= j1; j++) {
-        /* at a the eigenvalue has not crossed yet: negative iff j <= lo(a) */
-        int known_a = j <= r->prev_neig;
-        double fa = known_a ? r->prev_eig[j - 1] : (j <= r->prev_lo ? -1.0 : 1.0);
-        double w = locate_eig(r, r->prev_y, pa, fa, known_a, pt->y, pb, j, &pc[nloc]);
-        if (w < 0) continue;
-        wc[nloc] = w;
-        memcpy(yc + (size_t)nloc * n, r->yt, sizeof(double) * (size_t)n);
-        nloc++;
-    }
-    /* sort by distance from a */
-    for (int i = 1; i < nloc; i++)
-        for (int k = i; k > 0 && fabs(pc[k] - pa) < fabs(pc[k - 1] - pa); k--) {
-            double t = pc[k]; pc[k] = pc[k - 1]; pc[k - 1] = t;
-            t = wc[k]; wc[k] = wc[k - 1]; wc[k - 1] = t;
-            for (int i2 = 0; i2 < n; i2++) {
-                t = yc[(size_t)k * n + i2];
-                yc[(size_t)k * n + i2] = yc[(size_t)(k - 1) * n + i2];
-                yc[(size_t)(k - 1) * n + i2] = t;
-            }
-        }
-    int rc = SF_OK;
-    for (int i = 0; i < nloc && !rc;) {
-        int k = i + 1;
-        while (k < nloc && fabs(pc[k] - pc[i]) <= fmax(1e-7 * (1.0 + fabs(pc[i])), wc[i] + wc[k])) k++;
-        int mult = k - i;
-        /* the group's point: the solution of its first eigenvalue */
-        const double *y = yc + (size_t)i * n;
-        sf_error e;
-        sf_error_clear(&e);
-        if (sf_stab_eval(&r->stab, &r->eq, y, pc[i], &e)) { i = k; continue; }
-        r->neig_method[r->stab.res.method]++;
-        cont_point q;
-        memset(&q, 0, sizeof q);
-        double t = (pc[i] - pa) / (pb - pa), sarc = sa + t * (sb - sa);
-        q.index = -1;
-        q.y = y;
-        q.p = pc[i];
-        q.s = sarc - r->s_offset;
-        q.ds = sarc - sa;
-        q.loc_err = fabs(wc[i] / (pb - pa) * (sb - sa));
-        if (mult == 1) snprintf(q.label, sizeof q.label, "BP");
-        else snprintf(q.label, sizeof q.label, "BP%d", mult);
-        /* a simple one: the secant of the branch as its tangent, for switching */
-        double *ty = NULL;
-        if (mult == 1 && (ty = malloc(sizeof(double) * (size_t)n))) {
-            double nn = (pb - pa) * (pb - pa);
-            for (int i2 = 0; i2 < n; i2++) {
-                ty[i2] = pt->y[i2] - r->prev_y[i2];
-                if (i2 < r->eq.nq) nn += ty[i2] * ty[i2];
-            }
-            nn = sqrt(nn);
-            for (int i2 = 0; i2 < n; i2++) ty[i2] /= nn;
-            q.ty = ty;
-            q.tp = (pb - pa) / nn;
-        }
-        long row = r->npoints;
-        rc = write_point(r, &q);
-        free(ty);
-        branch_note(r, "%s at row %ld (branch %d, p = %.10g) located from the Morse index "
-                    "(%d eigenvalue%s of H_c cross%s zero there, between rows %ld and %ld, in one "
-                    "step of the path; the determinant test cannot see %s)%s; located to within "
-                    "%.3g in arclength%s", q.label, row,
-                    r->branch, q.p, mult, mult > 1 ? "s" : "", mult > 1 ? "" : "es", row_a,
-                    row + 1, mult > 1 ? "a multiple one" : "two crossings in one step",
-                    mult > 1 ? "; a multiple branch point: its branches are not followed" : "",
-                    q.loc_err, q.loc_err > 1e-6 * (1.0 + fabs(q.p))
-                                   ? " (Newton at fixed p does not converge closer to the singular point)"
-                                   : "");
-        i = k;
-    }
-    if (nloc < nc)
-        branch_note(r, "stability changes between rows %ld and %ld (branch %d, p from %.10g to "
-                    "%.10g): %d of %d eigenvalue crossings could not be located (Newton at fixed "
-                    "p failed or left the branch)", row_a, r->npoints, r->branch, pa, pb,
-                    nc - nloc, nc);
-    free(pc);
-    r->in_check = 0;
-    if (rc) return rc;
-    /* back to the point itself */
-    if (sf_stab_eval(&r->stab, &r->eq, pt->y, pt->p, r->err)) return r->err->code;
-    return SF_OK;
-}
-
-/* A branch point the engine located poorly (its corrector left the branch
- * while bisecting on the determinant): locate the zero of the eigenvalue
- * nearest zero again, with fixed-p solves, between the previous point and
- * pt or, when the eigenvalue has not changed sign there, between pt and a
- * point one step beyond.  On success *q is the located point (state in
- * ybuf, n values) with r->stab.res its stability, and 1 is returned; 0
- * leaves pt as it is (with r->stab.res at pt). */
-static int refine_bp(run_ctx *r, const cont_point *pt, cont_point *q, double *ybuf)
-{
-    const sf_stab_result *R = &r->stab.res;
-    if (strcmp(pt->label, "BP") != 0 || pt->loc_err <= 1e-6 * (1.0 + fabs(pt->p)) ||
-        !r->prev_ok || r->branch_first || R->neig < 1 || pt->p == r->prev_p)
-        return 0;
-    int j = 1;
-    for (int i = 1; i < R->neig; i++)
-        if (fabs(R->eig[i]) < fabs(R->eig[j - 1])) j = i + 1;
-    if (j > r->prev_neig) return 0;
-    if (!r->aux) {
-        if (sf_equil_create_solver(&r->eq, &r->aux) != CONT_OK) return 0;
-        cont_set_newton(r->aux, r->sc->study.tolerance > 0 ? r->sc->study.tolerance : 1e-10, 12, 0);
-    }
-    int n = r->eq.n, exact;
-    double *w2 = malloc(sizeof(double) * 2 * (size_t)n);
-    if (!w2) return 0;
-    double *ybp = w2, *yc = w2 + n;
-    memcpy(ybp, pt->y, sizeof(double) * (size_t)n);
-    double fbp = R->eig[j - 1], fa = r->prev_eig[j - 1], pa = r->prev_p, pbp = pt->p, pz = pbp;
-    double w = -1.0;
-    r->in_check = 1;
-    if ((fa > 0) != (fbp > 0)) {
-        w = locate_eig(r, r->prev_y, pa, fa, 1, ybp, pbp, j, &pz);
-    } else {
-        double pc = pbp + (pbp - pa);
-        memcpy(r->ya, r->prev_y, sizeof(double) * (size_t)n);
-        memcpy(r->yb, ybp, sizeof(double) * (size_t)n);
-        if (!solve_at(r, pa, pbp, pc)) {
-            double fc = eig_j(r, j, &exact);
-            if (exact && (fc > 0) != (fbp > 0)) {
-                memcpy(yc, r->yt, sizeof(double) * (size_t)n);
-                w = locate_eig(r, ybp, pbp, fbp, 1, yc, pc, j, &pz);
-            }
-        }
-    }
-    r->in_check = 0;
-    double sarc = pt->s + r->s_offset, dsdp = fabs((sarc - r->prev_sarc) / (pbp - pa));
-    if (w < 0 || w * dsdp > pt->loc_err) {
-        free(w2);
-        sf_error e;
-        sf_error_clear(&e);
-        sf_stab_eval(&r->stab, &r->eq, pt->y, pt->p, &e);
-        return 0;
-    }
-    *q = *pt;
-    q->index = -1;        /* not the engine's location (no note from write_point) */
-    memcpy(ybuf, r->yt, sizeof(double) * (size_t)n);
-    q->y = ybuf;
-    q->p = pz;
-    q->s = pt->s + (pz - pbp) * (sarc - r->prev_sarc) / (pbp - pa);
-    q->loc_err = w * dsdp;
-    branch_note(r, "BP at row %ld (branch %d): the determinant location stopped %.3g (arclength) "
-                "from it; located again on eigenvalue %d, to within %.3g, at p = %.10g%s",
-                r->npoints, r->branch, pt->loc_err, j, q->loc_err, pz,
-                q->loc_err > 1e-6 * (1.0 + fabs(pz))
-                    ? " (Newton at fixed p does not converge closer to the singular point)" : "");
-    free(w2);
-    return 1;
-}
 
 static int on_point(const cont_point *pt, void *data)
 {
@@ -542,13 +140,20 @@ static int on_point(const cont_point *pt, void *data)
             return 1;
         }
         r->neig_method[r->stab.res.method]++;
-        if (check_morse(r, pt)) {
+        const sf_stab_result *S = &r->stab.res;
+        if (S->status != SF_SSTAB_OK)
+            branch_note(r, "stability at row %ld (branch %d, p = %.10g): %s after %d ARPACK "
+                        "attempt(s): %s", r->npoints, r->bif.branch, pt->p,
+                        S->status == SF_SSTAB_RETRIED ? "retried, converged"
+                        : S->stable < 0 ? "UNKNOWN" : "eigenvalues unknown, unstable by inertia",
+                        S->attempts, S->reason);
+        if (sf_bif_check(&r->bif, pt, r->s_offset, r->branch_first, r->err)) {
             r->failed = 1;
             return 1;
         }
         cont_point q;
         double *ybuf = malloc(sizeof(double) * (size_t)eq->n);
-        if (ybuf && refine_bp(r, pt, &q, ybuf)) {
+        if (ybuf && sf_bif_refine(&r->bif, pt, r->s_offset, r->branch_first, &q, ybuf)) {
             int rc = write_point(r, &q);
             free(ybuf);
             return rc;
@@ -577,7 +182,7 @@ static int write_point(run_ctx *r, const cont_point *pt)
     }
     sf_outbuf *b = &r->rows;
     double sarc = pt->s + r->s_offset;
-    sf_outbuf_printf(b, "%ld\t%d\t%.12g\t%.12g\t%.12g", r->npoints, r->branch, fin(sarc), fin(pt->p),
+    sf_outbuf_printf(b, "%ld\t%d\t%.12g\t%.12g\t%.12g", r->npoints, r->bif.branch, fin(sarc), fin(pt->p),
               fin(load));
     double u0[3] = {0, 0, 0};
     for (int i = 0; i < s->nprobes; i++) {
@@ -596,12 +201,12 @@ static int write_point(run_ctx *r, const cont_point *pt)
     cont_stats last;
     memset(&last, 0, sizeof last);
     if (r->solver) cont_get_stats(r->solver, &last, NULL);
-    sf_outbuf_printf(&r->stats, "%ld,%d,%.6g,%.6g,%d,%ld,%ld,%ld,%ld,%.6g\n", r->npoints, r->branch,
+    sf_outbuf_printf(&r->stats, "%ld,%d,%.6g,%.6g,%d,%ld,%ld,%ld,%ld,%.6g\n", r->npoints, r->bif.branch,
               fin(pt->p), fin(pt->ds), pt->newton_iters, last.nres, last.njac, last.retries,
               last.nlocate, fin(last.wall));
     int special = pt->label[0] && strcmp(pt->label, "EP") != 0;
     if (special) {
-        sf_outbuf_printf(&r->special, "%ld\t%d\t%s\t%.12g\t%.12g", r->npoints, r->branch, pt->label,
+        sf_outbuf_printf(&r->special, "%ld\t%d\t%s\t%.12g\t%.12g", r->npoints, r->bif.branch, pt->label,
                   fin(pt->p), fin(sarc));
         for (int i = 0; i < s->nprobes; i++) {
             double u[3];
@@ -613,8 +218,8 @@ static int write_point(run_ctx *r, const cont_point *pt)
         if (pt->index >= 0 && pt->loc_err > 1e-6 * (1.0 + fabs(pt->p)))
             branch_note(r, "%s at row %ld (branch %d, p = %.10g) located only to within %.3g in "
                         "arclength: the corrector left the branch while bisecting", pt->label,
-                        r->npoints, r->branch, pt->p, pt->loc_err);
-        if (strcmp(pt->label, "BP") == 0 && remember_bp(r, pt)) {
+                        r->npoints, r->bif.branch, pt->p, pt->loc_err);
+        if (strcmp(pt->label, "BP") == 0 && sf_bif_add_bp(&r->bif, pt, r->err)) {
             r->failed = 1;
             return 1;
         }
@@ -638,7 +243,7 @@ static int write_point(run_ctx *r, const cont_point *pt)
     }
     if (r->cmp) {
         /* reference comparison: points of each branch form their own block */
-        if (sf_compare_add(r->cmp, eq, r->probes, pt->y, pt->p, r->branch, r->err)) {
+        if (sf_compare_add(r->cmp, eq, r->probes, pt->y, pt->p, r->bif.branch, r->err)) {
             r->failed = 1;
             return 1;
         }
@@ -649,77 +254,50 @@ static int write_point(run_ctx *r, const cont_point *pt)
         if (s->nprobes) fprintf(stderr, "  %s uz %-11.5g", s->probes[0].name, u0[2]);
         if (r->do_stab)
             fprintf(stderr, "  %s", r->stab.res.stable ? "stable  " : "unstable");
-        if (r->nbranches > 1 || r->max_depth > 0) fprintf(stderr, "  branch %d", r->branch);
+        if (r->bif.nbranches > 1 || r->bif.max_depth > 0) fprintf(stderr, "  branch %d", r->bif.branch);
         fprintf(stderr, "%s%s\n", pt->label[0] ? "  " : "", pt->label);
     }
     r->npoints++;
-    if (r->do_stab && !r->in_check) remember_prev(r, pt);
+    sf_bif_point_written(&r->bif, pt, sarc);
     return 0;
 }
 
-/* Follow the branches through the branch points met so far, breadth
- * first: at each simple branch point, the new direction t2 from
- * cont_branch_direction, then one branch along +t2 and one along -t2.
- * A branch that fails is kept up to where it stopped and noted; it does
- * not end the run. */
-static int switch_branches(run_ctx *r)
+/* Hooks of the bifurcation bookkeeping (bifurcation.h). */
+static void on_note(void *ctx, const char *line) { branch_note(ctx, "%s", line); }
+
+static int on_located(void *ctx, const cont_point *q)
 {
-    cont_solver *cs = r->solver;
-    sf_equil *eq = &r->eq;
-    int n = eq->n;
-    double *t2 = malloc(sizeof(double) * (size_t)(n + 1));
-    if (!t2) return sf_fail(r->err, SF_ENOMEM, "out of memory");
-    int rc = SF_OK;
-    while (!rc && r->nextbp < r->nbp) {
-        run_bp bp = r->bp[r->nextbp++];
-        double tp2;
-        if (cont_branch_direction(cs, bp.y, bp.p, bp.ty, bp.tp, t2, &tp2) != CONT_OK) {
-            branch_note(r, "branch point at row %ld (branch %d, p = %.10g): no switching: %s",
-                        bp.point, bp.branch, bp.p, cont_errmsg(cs));
-            continue;
-        }
-        for (int sgn = 1; sgn >= -1 && !rc; sgn -= 2) {
-            if (r->nbranches >= RUN_MAX_BRANCHES) {
-                branch_note(r, "more than %d branches: not following the rest", RUN_MAX_BRANCHES);
-                free(t2);
-                return SF_OK;
-            }
-            double *t = malloc(sizeof(double) * (size_t)n);
-            if (!t) { rc = sf_fail(r->err, SF_ENOMEM, "out of memory"); break; }
-            for (int i = 0; i < n; i++) t[i] = sgn * t2[i];
-            if (r->nshapes > 0) {
-                /* each branch has its own series of shapes */
-                if (sf_pvd_write(&r->pvd, r->err)) { free(t); rc = r->err->code; break; }
-                sf_pvd_free(&r->pvd);
-                char pvd[1100];
-                snprintf(pvd, sizeof pvd, "%s/shapes_branch%d.pvd", r->dir, r->nbranches + 1);
-                sf_pvd_init(&r->pvd, pvd);
-            }
-            /* a switched branch may run either way in p: the whole range,
-             * all load stages together */
-            r->eq.ramp_stage = -1;
-            r->seg_end = r->p_end;
-            cont_set_prange(cs, fmin(r->p_start, r->p_end), fmax(r->p_start, r->p_end));
-            r->branch_first = 1;
-            r->nbranches++;
-            r->branch = r->nbranches;
-            r->depth = bp.depth + 1;
-            r->s_offset = 0.0;
-            sf_outbuf_printf(&r->rows, "\n\n");
-            long first = r->npoints;
-            int st = cont_start_tangent(cs, bp.y, bp.p, t, sgn * tp2);
-            if (st == CONT_OK && !r->failed) st = cont_run(cs);
-            free(t);
-            if (r->failed) { rc = r->err->code; break; }
-            if (st != CONT_OK && st != CONT_DONE)
-                branch_note(r, "branch %d (from the branch point at row %ld, %s side) stopped "
-                            "after %ld points: %s", r->branch, bp.point, sgn > 0 ? "+" : "-",
-                            r->npoints - first, cont_errmsg(cs));
-        }
-        r->bp[r->nextbp - 1].switched = 1;
+    run_ctx *r = ctx;
+    r->neig_method[r->stab.res.method]++;
+    return write_point(r, q);
+}
+
+static int on_failed(void *ctx) { return ((run_ctx *)ctx)->failed; }
+
+/* A switched branch starts: its own series of shapes, the whole range of
+ * p (it may run either way, all load stages together), a new block of
+ * branch.tsv. */
+static int on_branch(void *ctx, const sf_bif_bp *bp, int branch)
+{
+    run_ctx *r = ctx;
+    (void)bp;
+    if (r->nshapes > 0) {
+        /* each branch has its own series of shapes */
+        if (sf_pvd_write(&r->pvd, r->err)) return r->err->code;
+        sf_pvd_free(&r->pvd);
+        char pvd[1100];
+        snprintf(pvd, sizeof pvd, "%s/shapes_branch%d.pvd", r->dir, branch);
+        sf_pvd_init(&r->pvd, pvd);
     }
-    free(t2);
-    return rc;
+    /* a switched branch may run either way in p: the whole range,
+     * all load stages together */
+    r->eq.ramp_stage = -1;
+    r->seg_end = r->p_end;
+    cont_set_prange(r->solver, fmin(r->p_start, r->p_end), fmax(r->p_start, r->p_end));
+    r->branch_first = 1;
+    r->s_offset = 0.0;
+    sf_outbuf_printf(&r->rows, "\n\n");
+    return SF_OK;
 }
 
 /* The start failed: when the loop constraints leave no motion (the whole
@@ -781,9 +359,9 @@ static int run_equilibrium(run_ctx *r)
         return err->code;
     r->do_stab = stab_on;
     r->nev = stab_on ? nev : 0;
-    r->max_depth = depth;
-    r->branch = 1;
-    r->nbranches = 1;
+    sf_bif_hooks hooks = {r, on_note, on_located, on_branch, on_failed};
+    sf_bif_init(&r->bif, &r->eq, r->do_stab ? &r->stab : NULL,
+                s->tolerance > 0 ? s->tolerance : 1e-10, depth, &r->npoints, &hooks);
     int ptype, gi, pi, ci;
     if (sf_equil_parse_param(s, &ptype, &gi, &pi, &ci, err)) return err->code;
     if (sf_equil_init(&r->eq, &sc->model, ptype, gi, pi, ci, load, err))
@@ -806,6 +384,9 @@ static int run_equilibrium(run_ctx *r)
         int meth = strcmp(eigsolver, "dense") == 0 ? SF_EIG_DENSE
                  : strcmp(eigsolver, "arpack") == 0 ? SF_EIG_ARPACK : SF_EIG_AUTO;
         if (sf_stab_init(&r->stab, eq, meth, nev > 0 ? nev : 1, err)) return err->code;
+        if (sf_study_int(s, "analysis.arpack_maxiter", 1000, &r->stab.arpack_maxiter, err) ||
+            sf_study_int(s, "analysis.arpack_attempts", 4, &r->stab.arpack_attempts, err))
+            return err->code;
     }
     /* the continuation engine sees only this problem */
     if (sf_equil_create_solver(eq, &r->solver) != CONT_OK)
@@ -918,7 +499,7 @@ static int run_equilibrium(run_ctx *r)
     if (rc == CONT_FAIL)
         return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: %s", s->path,
                        r->npoints, cont_errmsg(cs));
-    return switch_branches(r);
+    return sf_bif_switch(&r->bif, cs, err);
 }
 
 static int write_outputs(run_ctx *r)
@@ -943,9 +524,9 @@ static int write_outputs(run_ctx *r)
     sf_outbuf_printf(&out, "# units: s, p, load: as the parameter (load factor, actuation factor, or m); "
                     "probe*: m; energy: J; residual_rot: 1; residual_tra: m; eig*: J per unit "
                     "of the coordinates (rad, mode amplitude); theta*: rad\n");
-    if (r->nbranches > 1)
+    if (r->bif.nbranches > 1)
         sf_outbuf_printf(&out, "# %d branches, each a block after two blank lines (gnuplot index 0..%d)\n",
-                  r->nbranches, r->nbranches - 1);
+                  r->bif.nbranches, r->bif.nbranches - 1);
     sf_outbuf_printf(&out, "point\tbranch\ts\tp\tload");
     for (int i = 0; i < s->nprobes; i++)
         sf_outbuf_printf(&out, "\tprobe%d_ux\tprobe%d_uy\tprobe%d_uz", i + 1, i + 1, i + 1);
@@ -1006,6 +587,11 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
         sf_scene_close(&sc);
         return drc;
     }
+    if (strcmp(sc.study.analysis_type, "boundary") == 0) {
+        int brc = sf_run_boundary(&sc, o, err);   /* run_boundary.c */
+        sf_scene_close(&sc);
+        return brc;
+    }
     run_ctx r;
     memset(&r, 0, sizeof r);
     r.sc = &sc;
@@ -1020,7 +606,7 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     char shapes[1100];
     snprintf(shapes, sizeof shapes, "%s/shapes", r.dir);
     if (!rc) rc = sf_compare_open(&r.cmp, &sc.study, err);   /* bad reference files: before any output */
-    if (!rc) rc = sf_mkdir_p(r.dir, err);
+    if (!rc) rc = sf_cli_outdir(o, r.dir, err);   /* earlier results removed */
     if (!rc && sc.study.shapes > 0) rc = sf_mkdir_p(shapes, err);
     if (!rc) {
         char pvd[1100];
@@ -1058,8 +644,7 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     if (!rc && r.compared) rc = sf_compare_check(r.cmp, err);
     sf_compare_free(r.cmp);
     if (r.solver) cont_free(r.solver);
-    if (r.aux) cont_free(r.aux);
-    free(r.prev_y);
+    sf_bif_free(&r.bif);
     sf_equil_free(&r.eq);
     free(r.probes);
     free(r.rows.s);
@@ -1067,11 +652,6 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     free(r.special.s);
     free(r.header.s);
     free(r.bnotes.s);
-    for (int i = 0; i < r.nbp; i++) {
-        free(r.bp[i].y);
-        free(r.bp[i].ty);
-    }
-    free(r.bp);
     if (r.do_stab) sf_stab_free(&r.stab);
     sf_reactions_free(&r.reac);
     sf_pvd_free(&r.pvd);

@@ -154,7 +154,8 @@ static int integrate(traj_ctx *r, sf_scene *sc)
     /* the directory only once the trajectory has started */
     char shapes[1100];
     snprintf(shapes, sizeof shapes, "%s/shapes", r->dir);
-    if (sf_mkdir_p(r->dir, err) || (r->nshapes > 0 && sf_mkdir_p(shapes, err))) return err->code;
+    if (sf_cli_outdir(r->opt, r->dir, err) || (r->nshapes > 0 && sf_mkdir_p(shapes, err)))
+        return err->code;
     if (record(r)) return err->code;
     while (!r->d.done) {
         if (sf_dyn_step(&r->d, err)) return err->code;
@@ -203,7 +204,9 @@ int sf_run_dynamics(sf_scene *sc, const sf_options *o, sf_error *err)
                    r.max_drift, now() - t0, r.dir);
         sf_error perr;
         sf_error_clear(&perr);
-        if (sf_plot_trajectory(r.dir, &perr) != SF_OK)
+        if (o->plot == 0)
+            ;   /* --no-plot */
+        else if (sf_plot_trajectory(r.dir, &perr) != SF_OK)
             fprintf(stderr, "smoothfold: warning: no plot: %s\n", perr.msg);
         else if (!o->quiet)
             printf("wrote %s/trajectory.png, trajectory.pdf\n", r.dir);

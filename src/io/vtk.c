@@ -3,6 +3,8 @@
 
 #include <errno.h>
 #include <math.h>
+#include <pthread.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,19 +14,43 @@ int sf_write_atomic(const char *path, int (*fill)(void *ctx, void *file),
 {
     char tmp[1100];
     snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    /* SIGINT and SIGTERM wait until the file is complete and renamed (or
+     * removed): an interrupted run leaves complete files or none, never a
+     * .tmp.  They are delivered, with their default action, on return. */
+    sigset_t block, old;
+    sigemptyset(&block);
+    sigaddset(&block, SIGINT);
+    sigaddset(&block, SIGTERM);
+    sigaddset(&block, SIGHUP);
+    pthread_sigmask(SIG_BLOCK, &block, &old);
+    int rc = SF_OK;
     FILE *f = fopen(tmp, "w");
-    if (!f) return sf_fail(err, SF_EIO, "%s: cannot write: %s", tmp, strerror(errno));
-    int rc = fill(ctx, f);
-    if (fclose(f) != 0 && rc == 0) rc = SF_EIO;
+    if (!f) {
+        rc = sf_fail(err, SF_EIO, "%s: cannot write: %s", tmp, strerror(errno));
+        goto out;
+    }
+    errno = 0;
+    rc = fill(ctx, f);
+    int e = rc ? errno : 0;            /* the reason of a failed write */
+    if (fflush(f) != 0 && !rc) { rc = SF_EIO; e = errno; }
+    if (fclose(f) != 0 && !rc) { rc = SF_EIO; e = errno; }
     if (rc != 0) {
         remove(tmp);
-        return sf_fail(err, rc == SF_EIO ? SF_EIO : rc, "%s: write failed", path);
+        if (rc == SF_EIO)
+            rc = sf_fail(err, SF_EIO, "%s: write failed: %s", path,
+                         e ? strerror(e) : "unknown error");
+        else
+            rc = sf_fail(err, rc, "%s: write failed%s", path, rc == SF_ENOMEM ? ": out of memory" : "");
+        goto out;
     }
     if (rename(tmp, path) != 0) {
+        e = errno;
         remove(tmp);
-        return sf_fail(err, SF_EIO, "%s: cannot rename from %s: %s", path, tmp, strerror(errno));
+        rc = sf_fail(err, SF_EIO, "%s: cannot rename from %s: %s", path, tmp, strerror(e));
     }
-    return SF_OK;
+out:
+    pthread_sigmask(SIG_SETMASK, &old, NULL);
+    return rc;
 }
 
 typedef struct shape_ctx {
@@ -156,6 +182,12 @@ int sf_vtk_write_shape(const sf_model *m, const double *q, int samples,
                        const char *path, sf_error *err)
 {
     shape_ctx c = {m, q, samples < 1 ? 1 : samples, {0}};
+    /* ParaView chooses its reader by the extension: write only what the
+     * name says */
+    const char *dot = strrchr(path, '.'), *sl = strrchr(path, '/');
+    if (!dot || (sl && dot < sl) || strcmp(dot, ".vtp") != 0)
+        return sf_fail(err, SF_EINPUT, "%s: unsupported extension '%s' (smoothfold writes VTK XML "
+                       "PolyData; supported: .vtp)", path, dot && !(sl && dot < sl) ? dot : "");
     for (int j = 0; j < m->nq; j++)
         if (!isfinite(q[j]))
             return sf_fail(err, SF_ENUMERIC, "%s: state has a non-finite coordinate %d", path, j + 1);

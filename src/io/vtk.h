@@ -17,7 +17,8 @@
 #include "kinematics.h"
 #include "sf_error.h"
 
-/* Write the configuration q (kinematics evaluated inside) to path. */
+/* Write the configuration q (kinematics evaluated inside) to path, which
+ * must end in ".vtp" (SF_EINPUT otherwise, naming the supported ones). */
 int sf_vtk_write_shape(const sf_model *m, const double *q, int samples,
                        const char *path, sf_error *err);
 
@@ -35,7 +36,10 @@ int sf_pvd_write(const sf_pvd *p, sf_error *err);
 void sf_pvd_free(sf_pvd *p);
 
 /* Write to path.tmp via the callback, then rename; removes the temporary
- * on failure.  The callback returns 0 on success. */
+ * on failure.  The callback returns 0 on success (SF_EIO with errno set
+ * by the failed write: the message gives its strerror).  SIGINT, SIGTERM
+ * and SIGHUP are held back while the file is written and renamed, so a
+ * killed run leaves complete files or none. */
 int sf_write_atomic(const char *path, int (*fill)(void *ctx, void *file),
                     void *ctx, sf_error *err);
 

@@ -1,5 +1,14 @@
-# src/pattern/: the study in memory (pattern.h), its reader (study.c) and
-# the crease-pattern topology (faces, vertex cycles, face tree).
+# src/pattern/: the study in memory (pattern.h), its reader (study.c and
+# study_*.c, private header study_impl.h) and the crease-pattern topology
+# (faces, vertex cycles, face tree); crease patterns as FOLD sees them
+# (cpattern.h), the tessellation generators and the FOLD reader.
 src_libsmoothfold_a_SOURCES += src/pattern/pattern.h \
-	src/pattern/study.c src/pattern/study.h \
-	src/pattern/topology.c src/pattern/topology.h
+	src/pattern/study.c src/pattern/study.h src/pattern/study_impl.h \
+	src/pattern/study_util.c src/pattern/study_paths.c src/pattern/study_set.c \
+	src/pattern/study_check.c src/pattern/study_fill.c src/pattern/study_write.c \
+	src/pattern/study_access.c \
+	src/pattern/topology.c src/pattern/topology.h src/pattern/topology_impl.h \
+	src/pattern/topology_geom.c src/pattern/topology_check.c src/pattern/topology_bodies.c \
+	src/pattern/assignment.c \
+	src/pattern/cpattern.c src/pattern/cpattern.h src/pattern/cp_study.c \
+	src/pattern/generators.c src/pattern/generators.h

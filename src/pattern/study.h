@@ -126,6 +126,12 @@ int sf_study_fail(const sf_study *s, sf_error *err, int code,
                   const char *path, const char *fmt, ...)
     __attribute__((format(printf, 5, 6)));
 
+/* folds[].assignment against the fold's rest angles (assignment.c): a
+ * mountain ("M") fold whose rest angle or actuation group's rest angle is
+ * positive, or a valley ("V") one with a negative angle, is SF_EINPUT.
+ * Called by sf_study_load. */
+int sf_study_check_assignments(const sf_study *s, sf_error *err);
+
 /* ---- lookups by name (exact match; -1 when absent) ---------------------- */
 int sf_study_vertex_index(const sf_study *s, const char *name);
 int sf_study_fold_index(const sf_study *s, const char *name);

@@ -1,0 +1,211 @@
+/* cont_corrector.c - the corrector (cont.h, ALGORITHM): KINSOL's Newton
+ * on F(y, p) = 0 bordered by c.(x - xa) = sig, with the Jacobian of the
+ * bordered system; Newton at fixed p (cont_solve_fixed). */
+#include "cont_impl.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+int ci_kin_sys(N_Vector uv, N_Vector fv, void *data)
+{
+    cont_solver *s = data;
+    long n = s->n;
+    double *u = N_VGetArrayPointer(uv), *f = N_VGetArrayPointer(fv);
+    if (!ci_all_finite(u, n + 1)) {
+        ci_why(s, "Newton iterate became non-finite");
+        s->last_fnorm = NAN;
+        return -1;
+    }
+    if (ci_call_residual(s, u, u[n], f) != 0) return -1;
+    double g = -s->bsig;
+    for (long i = 0; i <= n; i++) g += s->bc[i] * (u[i] - s->bxa[i]);
+    f[n] = g;
+    return 0;
+}
+
+int ci_kin_jac(N_Vector uv, N_Vector fv, SUNMatrix J, void *data,
+               N_Vector t1, N_Vector t2)
+{
+    (void)fv; (void)t1; (void)t2;
+    cont_solver *s = data;
+    double *u = N_VGetArrayPointer(uv);
+    if (s->ulast) memcpy(s->ulast, u, (size_t)s->m * sizeof(double));
+    if (ci_call_jacobian(s, u, u[s->n]) != 0) return -1;
+    if (J != s->bk.A) return -1;
+    if (ci_bm_build(s, &s->bk, s->bc) != 0) return -1;
+    s->stp.nfactor++;      /* KINSOL factorises after every Jacobian */
+    return 0;
+}
+
+void ci_kin_err(int code, const char *module, const char *function,
+                char *msg, void *data)
+{
+    (void)code;
+    cont_solver *s = data;
+    snprintf(s->kin_msg, sizeof s->kin_msg, "%s/%s: %s", module, function, msg);
+}
+
+static double scaled_norm2(const cont_solver *s, const double *v)
+{
+    double r = 0.0;
+    for (long i = 0; i < s->m; i++) {
+        double a = v[i] * NV_Ith_S(s->uscale, i);
+        r += a * a;
+    }
+    return sqrt(r);
+}
+
+/* The norm of the Newton step test: KINSOL's scaled 2-norm, restricted by
+ * the norm weights when cont_set_weights gave them (a component left out
+ * of the arclength, e.g. a multiplier of a nearly redundant constraint, is
+ * then not required to settle to xtol: it is slaved to the others). */
+static double step_norm2(const cont_solver *s, const double *v)
+{
+    if (!s->wy) return scaled_norm2(s, v);
+    double r = 0.0;
+    for (long i = 0; i < s->m; i++) {
+        double a = v[i] * NV_Ith_S(s->uscale, i);
+        r += a * a * (i < s->n ? s->wy[i] : 1.0);
+    }
+    return sqrt(r);
+}
+
+/* Further exact Newton iterations on the corrector system (border s->bc,
+ * s->bxa, s->bsig) at u, with the engine's own bordered factorisation,
+ * until the scaled step is <= xtol (1 + |u|).  0 ok, -1 failed. */
+static int polish(cont_solver *s, double *u, int *iters)
+{
+    long n = s->n, m = s->m;
+    for (int k = 0; k < 5; k++) {
+        double *b = N_VGetArrayPointer(s->vb);
+        if (ci_call_residual(s, u, u[n], b) != 0) return -1;
+        double g = -s->bsig;
+        for (long i = 0; i <= n; i++) g += s->bc[i] * (u[i] - s->bxa[i]);
+        b[n] = g;
+        for (long i = 0; i < m; i++) b[i] = -b[i];
+        if (ci_call_jacobian(s, u, u[n]) != 0 || ci_bm_build(s, &s->bt, s->bc) != 0 ||
+            ci_bm_factor(s, &s->bt, NULL, NULL) != 0 || ci_bm_solve(s, &s->bt, s->vx, s->vb) != 0)
+            return -1;
+        double *d = N_VGetArrayPointer(s->vx);
+        for (long i = 0; i < m; i++) u[i] += d[i];
+        (*iters)++;
+        s->stp.newton_iters++;
+        if (step_norm2(s, d) <= s->xtol * (1.0 + step_norm2(s, u))) return 0;
+    }
+    ci_why(s, "Newton converges too slowly (near a singular point?): the step is still "
+        "above xtol = %.3g after 5 extra iterations", s->xtol);
+    return -1;
+}
+
+/* Solve F(x) = 0, c.(x - xa) = sig from the guess x (overwritten with the
+ * solution on success).  0 ok, -1 failed (reason in s->why). */
+int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
+               double sig, int maxit, int strategy, int *nit, double *fnorm)
+{
+    long m = s->m;
+    memcpy(s->bc, c, (size_t)m * sizeof(double));
+    memcpy(s->bxa, xa, (size_t)m * sizeof(double));
+    s->bsig = sig;
+    memcpy(N_VGetArrayPointer(s->u), x, (size_t)m * sizeof(double));
+    s->why[0] = '\0';
+    s->kin_msg[0] = '\0';
+    KINSetNumMaxIters(s->kmem, maxit);
+    KINSetFuncNormTol(s->kmem, s->ftol);
+    KINSetScaledStepTol(s->kmem, 1e-15);
+    int flag = KINSol(s->kmem, s->u, strategy, s->uscale, s->fscale);
+    long nni = 0;
+    KINGetNumNonlinSolvIters(s->kmem, &nni);
+    s->stp.newton_iters += nni;
+    s->stp.nlinsolve += nni;
+    if (nit) *nit = (int)nni;
+    double *u = N_VGetArrayPointer(s->u);
+    /* KIN_LINESEARCH_NONCONV: the line search found no decrease; next to a
+     * singular point that happens at a residual already at the tolerance,
+     * so it is judged by the final check below like a stagnation */
+    int ok = (flag >= 0 || flag == KIN_LINESEARCH_NONCONV) && ci_all_finite(u, m);
+    if (ok && nni >= 1 && s->xtol > 0) {
+        /* a small residual is not enough where F is flat (near singular
+         * points): also require a small last Newton step */
+        double sl = 0.0;
+        if (s->wy && s->ulast) {
+            for (long i = 0; i < m; i++) s->w1[i] = u[i] - s->ulast[i];
+            sl = step_norm2(s, s->w1);
+        } else {
+            KINGetStepLength(s->kmem, &sl);
+        }
+        if (sl > s->xtol * (1.0 + step_norm2(s, u))) {
+            int extra = 0;
+            if (polish(s, u, &extra) != 0) ok = 0;
+            if (nit) *nit += extra;
+        }
+    }
+    if (ok) {
+        /* the residual at the returned point, unscaled, and a final check */
+        if (ci_call_residual(s, u, u[s->n], s->w1) != 0) ok = 0;
+        else {
+            double fs = 0.0;
+            for (long i = 0; i < s->n; i++) {
+                double a = fabs(s->w1[i] * NV_Ith_S(s->fscale, i));
+                if (a > fs) fs = a;
+            }
+            /* KIN_STEP_LT_STPTOL: stagnation; accept only near the tolerance */
+            double lim = flag == KIN_STEP_LT_STPTOL ? 100.0 * s->ftol : 10.0 * s->ftol;
+            if (flag == KIN_LINESEARCH_NONCONV && fs > lim) {
+                char *name = KINGetReturnFlagName(flag);
+                ci_why(s, "KINSOL %s after %ld iterations, scaled residual %.3g > %.3g",
+                    name ? name : "failure", nni, fs, lim);
+                free(name);
+                ok = 0;
+            } else if (fs > lim) {
+                ci_why(s, "Newton stagnated with scaled residual %.3g > %.3g", fs, lim);
+                ok = 0;
+            }
+        }
+    } else if (s->why[0] == '\0') {
+        char *name = KINGetReturnFlagName(flag);
+        ci_why(s, "KINSOL %s after %ld iterations, residual norm %.3g%s%s",
+            name ? name : "failure", nni, s->last_fnorm,
+            s->kin_msg[0] ? ": " : "", s->kin_msg);
+        free(name);
+    }
+    if (fnorm) *fnorm = s->last_fnorm;
+    if (!ok) return -1;
+    memcpy(x, u, (size_t)m * sizeof(double));
+    return 0;
+}
+
+int ci_solve_fixed(cont_solver *s, double *x, int *nit, double *fnorm)
+{
+    long n = s->n, m = s->m;
+    for (long i = 0; i < m; i++) s->cw[i] = 0.0;
+    s->cw[n] = 1.0;
+    /* anchor xa: only its p component matters, c = e_p */
+    double *anchor = malloc((size_t)m * sizeof(double));
+    if (!anchor) return ci_fail(s, CONT_ENOMEM, "out of memory");
+    memcpy(anchor, x, (size_t)m * sizeof(double));
+    int r = ci_correct(s, x, s->cw, anchor, 0.0, s->init_maxit, s->init_strategy, nit, fnorm);
+    free(anchor);
+    return r;
+}
+
+int cont_solve_fixed(cont_solver *s, double *y, double p)
+{
+    NEED(s);
+    if (!y || !isfinite(p)) return ci_fail(s, CONT_EINPUT, "cont_solve_fixed: bad arguments");
+    if (!ci_all_finite(y, s->n)) return ci_fail(s, CONT_EINPUT, "cont_solve_fixed: y0 is not finite");
+    double t0 = ci_now_sec();
+    double *x = malloc((size_t)s->m * sizeof(double));
+    if (!x) return ci_fail(s, CONT_ENOMEM, "out of memory");
+    memcpy(x, y, (size_t)s->n * sizeof(double));
+    x[s->n] = p;
+    int nit;
+    double fn;
+    int r = ci_solve_fixed(s, x, &nit, &fn);
+    if (r == 0) memcpy(y, x, (size_t)s->n * sizeof(double));
+    free(x);
+    if (s->state != ST_RUN) ci_flush_stats(s, t0, 0);
+    if (r != 0)
+        return ci_fail(s, CONT_ENUMERIC, "Newton at fixed p = %.10g failed: %s", p, s->why);
+    return CONT_OK;
+}

@@ -1,0 +1,436 @@
+/* cont_step.c - following a branch (cont.h, ALGORITHM): the start
+ * (cont_start, cont_start_tangent), one predictor-corrector step with
+ * step-size control, special-point detection and the stop rules
+ * (cont_step), cont_run, and the delivery of points (index, storage,
+ * callback, statistics). */
+#include "cont_impl.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void ci_flush_stats(cont_solver *s, double t0, int is_step)
+{
+    s->stp.wall = ci_now_sec() - t0;
+    if (is_step) s->stp.ds = s->last.ds;
+    cont_stats *T = &s->total, *P = &s->stp;
+    T->steps += P->steps; T->points += P->points; T->newton_iters += P->newton_iters;
+    T->nres += P->nres; T->njac += P->njac; T->nfactor += P->nfactor;
+    T->nlinsolve += P->nlinsolve; T->retries += P->retries; T->nlocate += P->nlocate;
+    T->wall += P->wall;
+    if (is_step) {
+        double ds = s->last.ds;
+        s->last = *P;
+        s->last.ds = ds;
+        T->ds = ds;
+    }
+    memset(P, 0, sizeof *P);
+}
+
+static int push_ptr(cpt ***arr, long *len, long *cap, cpt *q)
+{
+    if (*len == *cap) {
+        long nc = *cap ? 2 * *cap : 64;
+        cpt **na = realloc(*arr, (size_t)nc * sizeof *na);
+        if (!na) return -1;
+        *arr = na;
+        *cap = nc;
+    }
+    (*arr)[(*len)++] = q;
+    return 0;
+}
+
+/* Hand q (owned) to the caller: index, storage, callback.  Returns 1 when
+ * the callback asks to stop, 0 otherwise, CONT_ENOMEM on failure. */
+static int deliver(cont_solver *s, cpt *q)
+{
+    q->pub.index = s->index++;
+    ci_pt_sync(s, q);
+    if (s->cur_owned) ci_pt_free(s->cur);
+    s->cur = NULL;
+    s->cur_owned = 0;
+    if (s->store) {
+        if (push_ptr(&s->hist, &s->nhist, &s->hcap, q) != 0) {
+            ci_pt_free(q);
+            return ci_fail(s, CONT_ENOMEM, "out of memory storing point %ld", s->index - 1);
+        }
+    } else {
+        s->cur_owned = 1;
+    }
+    s->cur = q;
+    if (q->pub.type != CONT_PT_REGULAR) {
+        cpt *c = ci_pt_dup(s, q);
+        if (!c || push_ptr(&s->spec, &s->nspec, &s->scap, c) != 0) {
+            ci_pt_free(c);
+            return ci_fail(s, CONT_ENOMEM, "out of memory storing a special point");
+        }
+    }
+    s->stp.points++;
+    if (s->cb && s->cb(&q->pub, s->cb_data) != 0) return 1;
+    return 0;
+}
+
+static void begin_run(cont_solver *s)
+{
+    ci_clear_run(s);
+    s->msg[0] = '\0';
+    s->err = 0;
+    clock_gettime(CLOCK_MONOTONIC, &s->t_start);
+}
+
+static int finish_start(cont_solver *s, double t0, int nit, double fn)
+{
+    cpt *b = s->base;
+    b->pub.newton_iters = nit;
+    b->pub.resnorm = fn;
+    b->pub.s = 0.0;
+    b->pub.ds = 0.0;
+    b->pub.loc_err = 0.0;
+    b->pub.time = ci_since(&s->t_start);
+    b->h = 0.0;
+    b->terminal = 0;
+    ci_set_label(b, CONT_PT_REGULAR, "");
+    cpt *q = ci_pt_dup(s, b);
+    if (!q) return ci_fail(s, CONT_ENOMEM, "out of memory");
+    s->state = ST_RUN;
+    s->first_step = 1;
+    s->ds = s->ds0;
+    s->last.ds = 0.0;
+    int r = deliver(s, q);
+    ci_flush_stats(s, t0, 0);
+    if (r < 0) {
+        s->state = ST_FAIL;
+        s->stop_reason = CONT_STOP_ERROR;
+        return r;
+    }
+    if (r == 1) {
+        s->state = ST_DONE;
+        s->stop_reason = CONT_STOP_CALLBACK;
+    }
+    return CONT_OK;
+}
+
+static int start_check(cont_solver *s, const double *y0, double p0)
+{
+    if (!y0 || !isfinite(p0) || !ci_all_finite(y0, s->n))
+        return ci_fail(s, CONT_EINPUT, "start point is missing or not finite");
+    if (p0 < s->p_min || p0 > s->p_max)
+        return ci_fail(s, CONT_EINPUT, "start parameter p0 = %.10g is outside [%g, %g]",
+                    p0, s->p_min, s->p_max);
+    return CONT_OK;
+}
+
+int cont_start(cont_solver *s, const double *y0, double p0, int dir)
+{
+    NEED(s);
+    begin_run(s);
+    double t0 = ci_now_sec();
+    if (dir != 1 && dir != -1)
+        return ci_fail(s, CONT_EINPUT, "cont_start: dir must be +1 or -1 (got %d)", dir);
+    int r = start_check(s, y0, p0);
+    if (r != CONT_OK) return r;
+    long n = s->n;
+    cpt *b = s->base;
+    memcpy(b->x, y0, (size_t)n * sizeof(double));
+    b->x[n] = p0;
+    int nit;
+    double fn;
+    if (ci_solve_fixed(s, b->x, &nit, &fn) != 0) {
+        ci_flush_stats(s, t0, 0);
+        return ci_fail(s, CONT_ENUMERIC, "start: Newton at fixed p = %.10g failed: %s", p0, s->why);
+    }
+    for (long i = 0; i < s->m; i++) s->cw[i] = 0.0;
+    s->cw[n] = 1.0;
+    r = ci_eval_point(s, b, s->cw, dir, 0);
+    if (r != 0) {
+        ci_flush_stats(s, t0, 0);
+        if (r == CONT_EUSER) return r;
+        return ci_fail(s, CONT_ENUMERIC, "start: no tangent at p = %.10g (%s); Jy is singular "
+                    "there (a limit or branch point?): give a tangent with "
+                    "cont_start_tangent", p0, s->why);
+    }
+    return finish_start(s, t0, nit, fn);
+}
+
+int cont_start_tangent(cont_solver *s, const double *y0, double p0,
+                       const double *ty0, double tp0)
+{
+    NEED(s);
+    begin_run(s);
+    double t0 = ci_now_sec();
+    int r = start_check(s, y0, p0);
+    if (r != CONT_OK) return r;
+    long n = s->n, m = s->m;
+    if (!ty0 || !ci_all_finite(ty0, n) || !isfinite(tp0))
+        return ci_fail(s, CONT_EINPUT, "cont_start_tangent: tangent missing or not finite");
+    cpt *b = s->base;
+    memcpy(b->x, y0, (size_t)n * sizeof(double));
+    b->x[n] = p0;
+    memcpy(b->t, ty0, (size_t)n * sizeof(double));
+    b->t[n] = tp0;
+    double nt = sqrt(ci_dotw(s, b->t, b->t));
+    if (!(nt > 0)) return ci_fail(s, CONT_EINPUT, "cont_start_tangent: zero tangent");
+    for (long i = 0; i < m; i++) b->t[i] /= nt;
+    ci_weigh(s, b->t, s->cw);
+    /* correct in the hyperplane through x0 orthogonal to t only if needed */
+    int nit = 0;
+    double fn;
+    if (ci_call_residual(s, b->x, p0, s->w1) != 0) {
+        ci_flush_stats(s, t0, 0);
+        return ci_fail(s, CONT_ENUMERIC, "cont_start_tangent: %s", s->why);
+    }
+    double fs = 0.0;
+    for (long i = 0; i < n; i++) fs = fmax(fs, fabs(s->w1[i] * NV_Ith_S(s->fscale, i)));
+    fn = s->last_fnorm;
+    if (fs > s->ftol) {
+        double *anchor = malloc((size_t)m * sizeof(double));
+        if (!anchor) return ci_fail(s, CONT_ENOMEM, "out of memory");
+        memcpy(anchor, b->x, (size_t)m * sizeof(double));
+        r = ci_correct(s, b->x, s->cw, anchor, 0.0, s->init_maxit, s->init_strategy, &nit, &fn);
+        free(anchor);
+        if (r != 0) {
+            ci_flush_stats(s, t0, 0);
+            return ci_fail(s, CONT_ENUMERIC, "cont_start_tangent: the start point (residual "
+                        "%.3g) could not be corrected: %s", fs, s->why);
+        }
+    }
+    /* determinant with the given tangent (may be singular at a BP) */
+    r = ci_eval_point(s, b, s->cw, +1, 1);
+    if (r == CONT_EUSER) {
+        ci_flush_stats(s, t0, 0);
+        return r;
+    }
+    if (r != 0) {   /* Jacobian failed here: the first step would fail too */
+        ci_flush_stats(s, t0, 0);
+        return ci_fail(s, CONT_ENUMERIC, "cont_start_tangent: %s", s->why);
+    }
+    return finish_start(s, t0, nit, fn);
+}
+
+/* Compute one step from s->base and queue the resulting points. */
+static int compute_step(cont_solver *s)
+{
+    long n = s->n, m = s->m;
+    cpt *b = s->base;
+    double ds = s->ds;
+    if (isfinite(s->s_max) && s->s_max - s->s_arc < ds) ds = s->s_max - s->s_arc;
+    cpt *x1 = ci_pt_new(s);
+    if (!x1) return ci_fail(s, CONT_ENOMEM, "out of memory");
+    double *c = calloc((size_t)m, sizeof(double));
+    if (!c) {
+        ci_pt_free(x1);
+        return ci_fail(s, CONT_ENOMEM, "out of memory");
+    }
+    ci_weigh(s, b->t, c);
+    double cosmax = s->max_angle > 0 ? cos(s->max_angle) : -2.0;
+    int nit = 0, r;
+    double fn = NAN;
+    for (;;) {
+        if (ds < s->ds_min) {
+            free(c);
+            ci_pt_free(x1);
+            s->stop_reason = CONT_STOP_DSMIN;
+            return ci_fail(s, CONT_FAIL, "continuation stopped at step %ld: the step size "
+                        "%.3g fell below ds_min = %.3g at p = %.12g (last accepted point, "
+                        "s = %.6g, residual norm %.3g); last attempt: %s",
+                        s->steps + 1, ds, s->ds_min, b->x[n], s->s_arc, b->pub.resnorm,
+                        s->why[0] ? s->why : "no reason recorded");
+        }
+        for (long i = 0; i < m; i++) x1->x[i] = b->x[i] + ds * b->t[i];
+        r = ci_correct(s, x1->x, c, b->x, ds, s->max_newton, s->strategy, &nit, &fn);
+        if (r == 0) {
+            r = ci_eval_point(s, x1, c, +1, 0);
+            if (r == CONT_EUSER) {
+                free(c); ci_pt_free(x1);
+                s->stop_reason = CONT_STOP_ERROR;
+                return r;
+            }
+            if (r == 0) {
+                double ca = ci_dotw(s, x1->t, b->t);
+                if (ca < cosmax) {
+                    ci_why(s, "the tangent turned by %.3g rad (> max_angle %.3g) over a step "
+                        "of %.3g", acos(fmax(-1.0, fmin(1.0, ca))), s->max_angle, ds);
+                    r = -1;
+                }
+            }
+        }
+        if (r == 0) break;
+        s->stp.retries++;
+        ds *= s->shrink;
+    }
+    x1->pub.newton_iters = nit;
+    x1->pub.resnorm = fn;
+    x1->pub.ds = ds;
+    x1->h = ds;
+    s->last.ds = ds;
+    s->ds = nit <= s->fast_iters ? fmin(ds * s->grow, s->ds_max) : ds;
+
+    cpt *xe = x1;
+    int term = 0, reason = CONT_STOP_NONE;
+    double p1 = x1->x[n];
+    if (p1 > s->p_max || p1 < s->p_min) {
+        double pb = p1 > s->p_max ? s->p_max : s->p_min;
+        reason = p1 > s->p_max ? CONT_STOP_PMAX : CONT_STOP_PMIN;
+        cpt *q = NULL;
+        r = ci_land(s, b, x1, pb, &q);
+        if (r != 0) {
+            free(c); ci_pt_free(x1);
+            s->stop_reason = CONT_STOP_ERROR;
+            if (r == CONT_EUSER) return r;
+            return ci_fail(s, CONT_FAIL, "could not land on the end of the parameter window "
+                        "p = %.12g: %s", pb, s->why);
+        }
+        ci_pt_free(x1);
+        xe = q;
+        term = 1;
+    }
+    double he = xe->h;
+
+    /* special points */
+    cpt *sp[40];
+    int nsp = 0;
+    int ids[40], nid = 0;
+    if (s->detect & CONT_DETECT_LP) ids[nid++] = TEST_LP;
+    if (s->detect & CONT_DETECT_BP) ids[nid++] = TEST_BP;
+    if (s->detect & CONT_DETECT_USER)
+        for (int k = 0; k < s->prob.ntest; k++) ids[nid++] = k;
+    for (int j = 0; j < nid; j++) {
+        int id = ids[j];
+        double f0, f1;
+        if (id == TEST_BP) {
+            if (!b->det_valid || !xe->det_valid) continue;
+            if (b->pub.det_sign == xe->pub.det_sign) continue;
+            if (s->first_step &&
+                b->pub.log_abs_det - xe->pub.log_abs_det <= log(SKIP_START_RATIO))
+                continue;
+        } else {
+            f0 = ci_test_value(s, id, b, 0.0, 0.0);
+            f1 = ci_test_value(s, id, xe, 0.0, 0.0);
+            if (!ci_differ(f0, f1)) continue;
+            if (s->first_step && fabs(f0) <= SKIP_START_RATIO * fabs(f1)) continue;
+        }
+        cpt *q = NULL;
+        r = ci_locate(s, id, b, xe, he, 0.0, &q);
+        if (r == CONT_EUSER || r == CONT_ENOMEM) {
+            free(c);
+            ci_pt_free(xe);
+            for (int k = 0; k < nsp; k++) ci_pt_free(sp[k]);
+            s->stop_reason = CONT_STOP_ERROR;
+            return r;
+        }
+        if (r != 0 || !q) continue;
+        if (id == TEST_LP) ci_set_label(q, CONT_PT_LP, "LP");
+        else if (id == TEST_BP) ci_set_label(q, CONT_PT_BP, "BP");
+        else {
+            ci_set_label(q, CONT_PT_USER, s->labels[id]);
+            q->pub.user_index = id;
+        }
+        sp[nsp++] = q;
+    }
+    /* an LP and a BP at the same place are one BP (pitchfork crossed along
+     * its bifurcating branch) */
+    for (int i = 0; i < nsp; i++) {
+        if (sp[i]->pub.type != CONT_PT_LP) continue;
+        for (int j = 0; j < nsp; j++) {
+            if (sp[j]->pub.type != CONT_PT_BP) continue;
+            double tol = fmax(1e3 * s->loc_tol * (1.0 + s->theta * fabs(sp[j]->x[n])),
+                              fmax(MERGE_FRAC * he,
+                                   2.0 * (sp[i]->pub.loc_err + sp[j]->pub.loc_err)));
+            if (fabs(sp[i]->h - sp[j]->h) <= tol) {
+                ci_pt_free(sp[i]);
+                sp[i] = sp[--nsp];
+                i--;
+                break;
+            }
+        }
+    }
+    /* order by arclength */
+    for (int i = 1; i < nsp; i++)
+        for (int j = i; j > 0 && sp[j]->h < sp[j - 1]->h; j--) {
+            cpt *tmp = sp[j]; sp[j] = sp[j - 1]; sp[j - 1] = tmp;
+        }
+    double tnow = ci_since(&s->t_start);
+    for (int i = 0; i < nsp; i++) {
+        sp[i]->pub.s = s->s_arc + sp[i]->h;
+        sp[i]->pub.time = tnow;
+        s->queue[(s->q0 + s->nq++) % 64] = sp[i];
+    }
+    s->steps++;
+    s->stp.steps++;
+    s->s_arc += he;
+    xe->pub.s = s->s_arc;
+    xe->pub.time = tnow;
+    xe->pub.loc_err = 0.0;
+    if (!term && s->max_steps > 0 && s->steps >= s->max_steps) {
+        term = 1;
+        reason = CONT_STOP_MAXSTEPS;
+    }
+    if (!term && isfinite(s->s_max) && s->s_arc >= s->s_max * (1.0 - 1e-12)) {
+        term = 1;
+        reason = CONT_STOP_MAXARC;
+    }
+    if (!term && isfinite(s->s_max) && s->s_max - s->s_arc < s->ds_min) {
+        term = 1;
+        reason = CONT_STOP_MAXARC;
+    }
+    ci_set_label(xe, term ? CONT_PT_EP : CONT_PT_REGULAR, term ? "EP" : "");
+    xe->terminal = term;
+    xe->stop_reason = reason;
+    ci_pt_copy(s, b, xe);
+    s->queue[(s->q0 + s->nq++) % 64] = xe;
+    s->first_step = 0;
+    free(c);
+    return CONT_OK;
+}
+
+int cont_step(cont_solver *s)
+{
+    if (!s) return CONT_FAIL;
+    if (s->state == ST_DONE) return CONT_DONE;
+    if (s->state == ST_FAIL) return CONT_FAIL;
+    if (s->state != ST_RUN) {
+        ci_fail(s, CONT_ESTATE, "cont_step called before cont_start");
+        return CONT_FAIL;
+    }
+    double t0 = ci_now_sec();
+    int computed = 0;
+    if (s->nq == 0) {
+        int r = compute_step(s);
+        computed = 1;
+        if (r != CONT_OK) {
+            ci_flush_stats(s, t0, 1);
+            s->state = ST_FAIL;
+            if (s->stop_reason == CONT_STOP_NONE) s->stop_reason = CONT_STOP_ERROR;
+            return CONT_FAIL;
+        }
+    }
+    cpt *q = s->queue[s->q0];
+    s->q0 = (s->q0 + 1) % 64;
+    s->nq--;
+    int term = q->terminal, reason = q->stop_reason;
+    int r = deliver(s, q);
+    if (computed) ci_flush_stats(s, t0, 1);
+    else ci_flush_stats(s, t0, 0);
+    if (r < 0) {
+        s->state = ST_FAIL;
+        s->stop_reason = CONT_STOP_ERROR;
+        return CONT_FAIL;
+    }
+    if (r == 1 || term) {
+        s->state = ST_DONE;
+        s->stop_reason = r == 1 ? CONT_STOP_CALLBACK : reason;
+        while (s->nq > 0) {      /* the rest of the step is not delivered */
+            ci_pt_free(s->queue[s->q0]);
+            s->q0 = (s->q0 + 1) % 64;
+            s->nq--;
+        }
+        return CONT_DONE;
+    }
+    return CONT_CONTINUE;
+}
+
+int cont_run(cont_solver *s)
+{
+    int st;
+    while ((st = cont_step(s)) == CONT_CONTINUE) {}
+    return st;
+}

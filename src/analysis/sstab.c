@@ -1,0 +1,445 @@
+/* sstab.c - stability from sparse KKT blocks: MUMPS inertia and ARPACK in
+ * shift-invert on the MUMPS factors (see sstab.h). */
+#include "sstab.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <arpack/arpack.h>
+
+#include "ldlt.h"
+
+#define ZERO_ROW 1e-13     /* rows shorter than this times the longest: zero */
+#define NULL_TOL 1e-12     /* MUMPS null pivot threshold (CNTL(3)) */
+#define SHIFT_REL 1e-6     /* sigma0 = -SHIFT_REL * max |diag HL| */
+#define EXTRA 6            /* eigenvalues computed beyond those wanted */
+
+struct sf_sstab {
+    int n, m;
+    sf_sstab_opts o;
+    sf_ldlt *f;
+    /* triplets of K (lower triangle) */
+    long cap;
+    int *ti, *tj;
+    double *tv;
+    long ndiag_at;         /* index of the first -sigma diagonal triplet */
+    /* rows of C: scale (0 = dropped), new index */
+    double *rs;
+    int *rnew;
+    int mk;                /* rows kept */
+    double *b;             /* n + m */
+    double scale, gersh;
+    sf_sstab_result res;
+};
+
+/* Append to the result's reason (truncated when long). */
+static void add_reason(sf_sstab_result *R, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void add_reason(sf_sstab_result *R, const char *fmt, ...)
+{
+    size_t len = strlen(R->reason);
+    if (len >= sizeof R->reason - 1) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(R->reason + len, sizeof R->reason - len, fmt, ap);
+    va_end(ap);
+}
+
+int sf_sstab_create(sf_sstab **out, int n, int m, const sf_sstab_opts *opts, sf_error *err)
+{
+    *out = NULL;
+    if (n < 1 || m < 0)
+        return sf_fail(err, SF_EINTERNAL, "sparse stability: bad size (n = %d, m = %d)", n, m);
+    sf_sstab *s = calloc(1, sizeof *s);
+    if (!s) return sf_fail(err, SF_ENOMEM, "out of memory");
+    s->n = n;
+    s->m = m;
+    if (opts) s->o = *opts;
+    if (s->o.nev < 1) s->o.nev = 1;
+    if (s->o.maxiter < 1) s->o.maxiter = 1000;
+    if (s->o.attempts < 1) s->o.attempts = 4;
+    if (!(s->o.tol > 0)) s->o.tol = 1e-13;
+    s->rs = calloc((size_t)m + 1, sizeof(double));
+    s->rnew = calloc((size_t)m + 1, sizeof(int));
+    s->b = calloc((size_t)(n + m) + 1, sizeof(double));
+    s->res.eig = calloc((size_t)s->o.nev, sizeof(double));
+    if (!s->rs || !s->rnew || !s->b || !s->res.eig) {
+        sf_sstab_free(s);
+        return sf_fail(err, SF_ENOMEM, "out of memory");
+    }
+    int rc = sf_ldlt_create(&s->f, NULL_TOL, err);
+    if (rc) {
+        sf_sstab_free(s);
+        return rc;
+    }
+    *out = s;
+    return SF_OK;
+}
+
+void sf_sstab_free(sf_sstab *s)
+{
+    if (!s) return;
+    sf_ldlt_free(s->f);
+    free(s->ti);
+    free(s->tj);
+    free(s->tv);
+    free(s->rs);
+    free(s->rnew);
+    free(s->b);
+    free(s->res.eig);
+    free(s);
+}
+
+const sf_sstab_result *sf_sstab_get(const sf_sstab *s)
+{
+    return &s->res;
+}
+
+static int check_csc(const sf_csc *A, int nrow, int ncol, const char *name, sf_error *err)
+{
+    if (A->nrow != nrow || A->ncol != ncol || !A->colptr || A->colptr[0] != 0)
+        return sf_fail(err, SF_EINTERNAL, "sparse stability: %s is %d x %d, expected %d x %d", name,
+                       A->nrow, A->ncol, nrow, ncol);
+    for (int j = 0; j < ncol; j++) {
+        if (A->colptr[j + 1] < A->colptr[j])
+            return sf_fail(err, SF_EINTERNAL, "sparse stability: %s column %d: bad colptr", name, j);
+        for (int k = A->colptr[j]; k < A->colptr[j + 1]; k++) {
+            if (A->rowind[k] < 0 || A->rowind[k] >= nrow)
+                return sf_fail(err, SF_EINTERNAL, "sparse stability: %s column %d: row %d out of "
+                               "range", name, j, A->rowind[k]);
+            if (!isfinite(A->val[k]))
+                return sf_fail(err, SF_ENUMERIC, "sparse stability: %s (%d, %d) is not finite",
+                               name, A->rowind[k], j);
+        }
+    }
+    return SF_OK;
+}
+
+/* Triplets of K(0) = [HL, Cs^T; Cs, 0] (lower triangle, scaled kept rows
+ * of C), then n diagonal triplets that carry -sigma.  Also the scale of
+ * HL and a Gershgorin lower bound of its spectrum. */
+static int assemble(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
+{
+    int n = s->n, m = C ? s->m : 0;
+    /* row lengths of C */
+    for (int i = 0; i < m; i++) s->rs[i] = 0.0;
+    for (int j = 0; j < n && m > 0; j++)
+        for (int k = C->colptr[j]; k < C->colptr[j + 1]; k++)
+            s->rs[C->rowind[k]] += C->val[k] * C->val[k];
+    double big = 0.0;
+    for (int i = 0; i < m; i++) big = fmax(big, s->rs[i] = sqrt(s->rs[i]));
+    s->mk = 0;
+    for (int i = 0; i < m; i++) {
+        int keep = s->rs[i] > ZERO_ROW * big && s->rs[i] > 0.0;
+        s->rnew[i] = keep ? s->mk++ : -1;
+        s->rs[i] = keep ? 1.0 / s->rs[i] : 0.0;
+    }
+    long need = (long)HL->colptr[n] + (m > 0 ? (long)C->colptr[n] : 0) + n;
+    if (need > s->cap) {
+        int *ti = realloc(s->ti, sizeof(int) * (size_t)need);
+        if (ti) s->ti = ti;
+        int *tj = realloc(s->tj, sizeof(int) * (size_t)need);
+        if (tj) s->tj = tj;
+        double *tv = realloc(s->tv, sizeof(double) * (size_t)need);
+        if (tv) s->tv = tv;
+        if (!ti || !tj || !tv) return sf_fail(err, SF_ENOMEM, "out of memory");
+        s->cap = need;
+    }
+    /* Gershgorin: diagonal and off-diagonal row sums from the lower triangle */
+    double *diag = s->b; /* b has n + m >= n entries */
+    double *offs = calloc((size_t)n, sizeof(double));
+    if (!offs) return sf_fail(err, SF_ENOMEM, "out of memory");
+    for (int i = 0; i < n; i++) diag[i] = 0.0;
+    long t = 0;
+    for (int j = 0; j < n; j++)
+        for (int k = HL->colptr[j]; k < HL->colptr[j + 1]; k++) {
+            int i = HL->rowind[k];
+            if (i < j) continue;
+            double v = HL->val[k];
+            if (i == j) diag[i] += v;
+            else {
+                offs[i] += fabs(v);
+                offs[j] += fabs(v);
+            }
+            s->ti[t] = i;
+            s->tj[t] = j;
+            s->tv[t++] = v;
+        }
+    s->scale = 0.0;
+    s->gersh = INFINITY;
+    for (int i = 0; i < n; i++) {
+        s->scale = fmax(s->scale, fabs(diag[i]));
+        s->gersh = fmin(s->gersh, diag[i] - offs[i]);
+    }
+    free(offs);
+    if (!(s->scale > 0)) s->scale = 1.0;
+    for (int j = 0; j < n && m > 0; j++)
+        for (int k = C->colptr[j]; k < C->colptr[j + 1]; k++) {
+            int r = s->rnew[C->rowind[k]];
+            if (r < 0) continue;
+            s->ti[t] = n + r;
+            s->tj[t] = j;
+            s->tv[t++] = C->val[k] * s->rs[C->rowind[k]];
+        }
+    s->ndiag_at = t;
+    for (int i = 0; i < n; i++) {
+        s->ti[t] = s->tj[t] = i;
+        s->tv[t++] = 0.0;
+    }
+    return SF_OK;
+}
+
+/* Factorise K(sigma); fills neg and nnull.  Returns SF_OK, or the error. */
+static int factor_at(sf_sstab *s, double sigma, int *neg, int *nnull, sf_error *err)
+{
+    long nt = s->ndiag_at + s->n;
+    for (long t = s->ndiag_at; t < nt; t++) s->tv[t] = -sigma;
+    int rc = sf_ldlt_factor(s->f, s->n + s->mk, nt, s->ti, s->tj, s->tv, err);
+    if (rc) return rc;
+    sf_ldlt_info in;
+    sf_ldlt_get_info(s->f, &in);
+    *neg = in.neg;
+    *nnull = in.nnull;
+    s->res.analyses = in.analyses;
+    return SF_OK;
+}
+
+/* x -> u with K(sigma) [u; nu] = [x; 0] */
+static int apply_op(sf_sstab *s, const double *x, double *u, sf_error *err)
+{
+    int n = s->n;
+    memcpy(s->b, x, sizeof(double) * (size_t)n);
+    memset(s->b + n, 0, sizeof(double) * (size_t)s->mk);
+    int rc = sf_ldlt_solve(s->f, s->b, err);
+    if (rc) return rc;
+    memcpy(u, s->b, sizeof(double) * (size_t)n);
+    return SF_OK;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* One ARPACK run (the current factors, shift sigma): *conv = eigenvalues
+ * converged; returns the dsaupd/dseupd info (0 = success) or, below
+ * -1000, a MUMPS solve failure. */
+static int arpack_run(sf_sstab *s, double sigma, int nev, int ncv, unsigned long seed,
+                      double *eig, int *conv, int *iters, sf_error *err)
+{
+    int n = s->n;
+    size_t lworkl = (size_t)ncv * (ncv + 8);
+    double *V = malloc(sizeof(double) * ((size_t)n * ncv + 3 * (size_t)n + lworkl + n + 1));
+    a_int *sel = calloc((size_t)ncv, sizeof(a_int));
+    if (!V || !sel) {
+        free(V);
+        free(sel);
+        *conv = 0;
+        return sf_fail(err, SF_ENOMEM, "out of memory"), -2000;
+    }
+    double *workd = V + (size_t)n * ncv, *workl = workd + 3 * (size_t)n, *resid = workl + lworkl;
+    /* start: a fixed pseudo-random vector mapped into null(C) */
+    unsigned long x = 88172645463325252UL ^ (seed * 0x9E3779B97F4A7C15UL);
+    for (int i = 0; i < n; i++) {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        workd[i] = (double)(x % 2000001UL) / 1000000.0 - 1.0;
+    }
+    int info = -1001;
+    if (apply_op(s, workd, resid, err)) goto out;
+    a_int ido = 0, ainfo = 1, iparam[11] = {0}, ipntr[14] = {0};
+    iparam[0] = 1;
+    iparam[2] = s->o.maxiter;
+    iparam[6] = 1;
+    for (;;) {
+        dsaupd_c(&ido, "I", n, "LM", nev, s->o.tol, resid, ncv, V, n, iparam, ipntr, workd, workl,
+                 (a_int)lworkl, &ainfo);
+        if (ido != -1 && ido != 1) break;
+        if (apply_op(s, workd + ipntr[0] - 1, workd + ipntr[1] - 1, err)) goto out;
+        s->res.nop++;
+    }
+    *conv = (int)iparam[4];
+    *iters = (int)iparam[2];
+    info = (int)ainfo;
+    if (ainfo != 0) goto out;
+    double dz = 0;
+    dseupd_c(0, "A", sel, eig, &dz, n, sigma, "I", n, "LM", nev, s->o.tol, resid, ncv, V, n, iparam,
+             ipntr, workd, workl, (a_int)lworkl, &ainfo);
+    info = ainfo == 0 ? 0 : 10000 + (int)ainfo;
+    if (ainfo == 0)
+        for (int i = 0; i < nev; i++) eig[i] = sigma + 1.0 / eig[i];
+out:
+    free(V);
+    free(sel);
+    return info;
+}
+
+/* Sylvester check of the computed eigenvalues ev[0..nev-1] (ascending):
+ * at a cut t in the first clear gap after the wanted ones, the number of
+ * eigenvalues of H_c below t, neg(K(t)) - rank, must equal the number
+ * computed below t (Lanczos can miss copies of a multiple eigenvalue).
+ * Returns how many were missed (0 also when no clear gap exists or the
+ * count is ambiguous), or -1 on lack of memory.  Leaves the factors of
+ * K(t). */
+static int sturm_check(sf_sstab *s, const double *ev, int nev, int rank, int nnull0,
+                       sf_error *err)
+{
+    int k = s->o.nev < nev ? s->o.nev : nev;
+    double gap = 1e-6 * fmax(s->scale, fabs(ev[nev - 1]));
+    int j = k;
+    while (j < nev && ev[j] - ev[j - 1] <= gap) j++;
+    if (j >= nev) return 0;
+    double t = 0.5 * (ev[j - 1] + ev[j]);
+    int neg, nnull;
+    sf_error e;
+    sf_error_clear(&e);
+    if (factor_at(s, t, &neg, &nnull, &e)) {
+        if (e.code == SF_ENOMEM) return sf_fail(err, SF_ENOMEM, "%s", e.msg), -1;
+        return 0;
+    }
+    if (nnull != nnull0) return 0;
+    int below = neg - rank;
+    return below > j ? below - j : 0;
+}
+
+/* The shift of attempt a (0-based) and its subspace size. */
+static void attempt_plan(const sf_sstab *s, int a, int morse, double sigma0, int nev, int dim,
+                         double *sigma, int *ncv)
+{
+    int base = 2 * nev + 1 > 20 ? 2 * nev + 1 : 20;
+    int c = base << (a < 3 ? a : 3);
+    *ncv = c > dim ? dim : c;
+    double below = fmin(s->gersh, sigma0) - 1e-3 * s->scale;
+    if (morse == 0) *sigma = a < 2 ? sigma0 : sigma0 - 1e-2 * (double)(a - 1) * s->scale;
+    else *sigma = a < 2 ? below : below - 0.5 * (double)(a - 1) * s->scale;
+}
+
+int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
+{
+    int n = s->n, rc;
+    sf_sstab_result *R = &s->res;
+    int analyses = R->analyses;
+    double *eigsave = R->eig;
+    memset(R, 0, sizeof *R);
+    R->eig = eigsave;
+    R->analyses = analyses;
+    R->stable = -1;
+    R->morse = -1;
+    if ((rc = check_csc(HL, n, n, "HL", err))) return rc;
+    if (C && s->m > 0 && (rc = check_csc(C, s->m, n, "C", err))) return rc;
+    if ((rc = assemble(s, HL, C, err))) return rc;
+    /* inertia at sigma0; with rank-deficient C, the null pivot count is
+     * confirmed at a second shift (a singular H_c - sigma adds one) */
+    double sigma0 = -SHIFT_REL * s->scale;
+    int neg = 0, nnull = 0;
+    sf_error e2;
+    sf_error_clear(&e2);
+    rc = factor_at(s, sigma0, &neg, &nnull, &e2);
+    if (rc == SF_OK && nnull > 0) {
+        int neg1, nnull1;
+        if (factor_at(s, 3.0 * sigma0, &neg1, &nnull1, &e2) == SF_OK && nnull1 < nnull) {
+            sigma0 *= 3.0;
+            neg = neg1;
+            nnull = nnull1;
+        } else if (factor_at(s, sigma0, &neg, &nnull, &e2)) {
+            rc = e2.code;
+        }
+    }
+    if (rc == SF_ENOMEM) return sf_fail(err, rc, "%s", e2.msg);
+    if (rc) {
+        R->status = SF_SSTAB_UNKNOWN;
+        snprintf(R->reason, sizeof R->reason, "%.190s", e2.msg);
+        return SF_OK;
+    }
+    R->null_pivots = nnull;
+    R->rank = s->mk - nnull;
+    R->dim = n - R->rank;
+    R->morse = neg - R->rank;
+    if (R->morse < 0) {
+        R->status = SF_SSTAB_UNKNOWN;
+        snprintf(R->reason, sizeof R->reason, "inertia inconsistent: %d negative pivots for "
+                 "constraint rank %d", neg, R->rank);
+        R->morse = -1;
+        return SF_OK;
+    }
+    int morse0 = R->morse;
+    int nev = s->o.nev + EXTRA < R->dim - 1 ? s->o.nev + EXTRA : R->dim - 1;
+    double *ev = malloc(sizeof(double) * (size_t)(nev > 0 ? nev : 1));
+    if (!ev) return sf_fail(err, SF_ENOMEM, "out of memory");
+    int done = 0;
+    double fs = sigma0; /* shift of the current factors */
+    if (nev < 1) {
+        add_reason(R, "tangent space of dimension %d too small for ARPACK", R->dim);
+    }
+    for (int a = 0; a < s->o.attempts && nev >= 1 && !done; a++) {
+        double sigma;
+        int ncv, conv = 0, iters = 0, nn = 0, ng = 0;
+        attempt_plan(s, a, morse0, sigma0, nev, R->dim, &sigma, &ncv);
+        R->attempts++;
+        if (sigma != fs && factor_at(s, sigma, &ng, &nn, &e2)) {
+            if (e2.code == SF_ENOMEM) {
+                free(ev);
+                return sf_fail(err, SF_ENOMEM, "%s", e2.msg);
+            }
+            add_reason(R, "attempt %d: factorisation at the shift failed; ", a + 1);
+            sf_error_clear(&e2);
+            fs = NAN;
+            continue;
+        }
+        fs = sigma; /* the factors are now those of K(sigma) */
+        int info = arpack_run(s, sigma, nev, ncv, (unsigned long)a, ev, &conv, &iters, &e2);
+        if (info == 0) qsort(ev, (size_t)nev, sizeof(double), cmp_double);
+        int missed = 0;
+        if (info == 0) {
+            missed = sturm_check(s, ev, nev, R->rank, R->null_pivots, &e2);
+            fs = NAN;
+            if (missed < 0) {
+                free(ev);
+                return sf_fail(err, SF_ENOMEM, "%s", e2.msg);
+            }
+        }
+        if (info == 0 && missed > 0) {
+            add_reason(R, "attempt %d: %d eigenvalue(s) missed (Sturm count, ncv %d); ", a + 1,
+                       missed, ncv);
+            continue;
+        }
+        if (info == 0) {
+            R->neig = nev < s->o.nev ? nev : s->o.nev;
+            memcpy(R->eig, ev, sizeof(double) * (size_t)R->neig);
+            R->iters = iters;
+            done = 1;
+            int c = 0;
+            for (int i = 0; i < nev; i++) c += ev[i] < 0.0;
+            R->morse = c < nev ? c : (c > morse0 ? c : morse0);
+            break;
+        }
+        if (info <= -1000) {
+            if (e2.code == SF_ENOMEM) {
+                free(ev);
+                return sf_fail(err, SF_ENOMEM, "%s", e2.msg);
+            }
+            add_reason(R, "attempt %d: solve failed; ", a + 1);
+            sf_error_clear(&e2);
+            continue;
+        }
+        add_reason(R, "attempt %d: ARPACK %s info %d (%d of %d converged, ncv %d, shift %.3g); ",
+                   a + 1, info >= 10000 ? "dseupd" : "dsaupd", info >= 10000 ? info - 10000 : info,
+                   conv, nev, ncv, sigma);
+    }
+    free(ev);
+    size_t len = strlen(R->reason);
+    while (len > 0 && (R->reason[len - 1] == ' ' || R->reason[len - 1] == ';'))
+        R->reason[--len] = '\0';
+    if (done) {
+        R->status = R->attempts > 1 ? SF_SSTAB_RETRIED : SF_SSTAB_OK;
+        R->stable = R->morse == 0 && R->eig[0] > 0.0;
+    } else {
+        R->status = SF_SSTAB_UNKNOWN;
+        R->stable = R->morse > 0 ? 0 : -1;
+    }
+    return SF_OK;
+}

@@ -1,0 +1,92 @@
+/* sstab.h - stability of an equilibrium from sparse matrices: the entry
+ * point for formulations that assemble their KKT blocks sparse (the face
+ * poses of MODEL.md 9) and the ARPACK method of stability.h.
+ *
+ * Input, in compressed sparse column form (sf_csc, 0-based):
+ *   HL (n x n) the Hessian of the Lagrangian, hess Pi + sum_c lambda_c hess g_c.
+ *      Symmetric; give the full matrix or only its lower triangle: entries
+ *      above the diagonal (row < col) are ignored.
+ *   C  (m x n) the constraint rows (m may be 0; C may then be NULL).
+ * Output: the Morse index of H_c = Z^T HL Z (Z a basis of null(C)), the
+ * nev smallest eigenvalues of H_c, and a status with its reason.
+ *
+ * Method (see docs/stability.md):
+ *  - rows of C are scaled to unit length; rows shorter than 1e-13 times the
+ *    longest are dropped (zero to round-off, e.g. second-order loop rows
+ *    at the flat state);
+ *  - K(sigma) = [HL - sigma I, C^T; C, 0] is factorised by MUMPS (ldlt.h).
+ *    Sylvester: with C of rank r and H_c - sigma regular,
+ *      neg(K) = neg(H_c - sigma) + r,  null(K) = m' - r
+ *    (m' the rows kept), so r = m' - null pivots and the Morse index is
+ *    neg(K(sigma0)) - r with sigma0 = -1e-6 * max|diag HL| (a point whose
+ *    smallest eigenvalue is in [sigma0, 0) is counted from its eigenvalue).
+ *    Rank condition: the redundant rows of C must show as null pivots,
+ *    i.e. the rows must be either independent with a smallest singular
+ *    value (of the scaled rows) well above 1e-9 or dependent to round-off.
+ *    When H_c itself is singular at a shift (a null pivot beyond the
+ *    redundant rows, or a negative index) the shift is moved.
+ *  - ARPACK (dsaupd/dseupd, mode 3) in shift-invert on the pencil
+ *    (K(0), diag(I, 0)); each operator application is one MUMPS solve.
+ *    When dsaupd does not converge it is retried with twice the subspace
+ *    (ncv), then with a shift moved below the spectrum, up to
+ *    opts.attempts times; every retry is counted in the result.
+ *
+ * Stability: unstable when the Morse index is positive (from the
+ * inertia alone, so also when ARPACK failed); stable when it is 0 and the
+ * smallest eigenvalue is positive; unknown when the eigenvalues could not
+ * be computed and the index is 0, or when the factorisation failed.  An
+ * unknown stability is not an error: sf_sstab_eval returns SF_OK with
+ * res.status = SF_SSTAB_UNKNOWN and the reason.  Errors (a non-zero
+ * return) are bad arguments, non-finite entries and lack of memory.
+ */
+#ifndef SF_SSTAB_H
+#define SF_SSTAB_H
+
+#include "sf_error.h"
+
+/* A compressed sparse column matrix (0-based, colptr[ncol] entries). */
+typedef struct sf_csc {
+    int nrow, ncol;
+    const int *colptr;   /* [ncol + 1] */
+    const int *rowind;   /* [colptr[ncol]] */
+    const double *val;   /* [colptr[ncol]] */
+} sf_csc;
+
+enum { SF_SSTAB_OK = 0, SF_SSTAB_RETRIED = 1, SF_SSTAB_UNKNOWN = 2 };
+
+typedef struct sf_sstab_opts {
+    int nev;        /* smallest eigenvalues wanted (>= 1) */
+    int maxiter;    /* ARPACK restarts per attempt (0: 1000) */
+    int attempts;   /* ARPACK attempts in all (0: 4) */
+    double tol;     /* ARPACK relative tolerance (0: 1e-13) */
+} sf_sstab_opts;
+
+typedef struct sf_sstab_result {
+    int status;        /* SF_SSTAB_OK, _RETRIED (known after retries), _UNKNOWN */
+    char reason[200];  /* for RETRIED and UNKNOWN: what failed ("" for OK) */
+    int stable;        /* 1 stable, 0 unstable, -1 unknown */
+    int morse;         /* negative eigenvalues of H_c; -1 if the factorisation failed */
+    int rank;          /* rank of C */
+    int dim;           /* n - rank */
+    int null_pivots;   /* null pivots of K(sigma0) */
+    int neig;          /* eigenvalues in eig (0 when ARPACK failed) */
+    double *eig;       /* [nev] smallest eigenvalues of H_c, ascending */
+    int attempts;      /* ARPACK attempts made (1 = first try converged) */
+    int iters;         /* ARPACK restarts of the attempt that converged */
+    int nop;           /* operator applications (MUMPS solves), all attempts */
+    int analyses;      /* MUMPS symbolic analyses so far (pattern changes) */
+} sf_sstab_result;
+
+typedef struct sf_sstab sf_sstab;
+
+/* For problems with n coordinates and m constraint rows. */
+int sf_sstab_create(sf_sstab **out, int n, int m, const sf_sstab_opts *opts, sf_error *err);
+void sf_sstab_free(sf_sstab *s);
+
+/* Stability at one point.  The pattern of the KKT matrix is analysed once
+ * and reused while HL and C keep their patterns.  The result stays valid
+ * until the next call. */
+int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err);
+const sf_sstab_result *sf_sstab_get(const sf_sstab *s);
+
+#endif

@@ -1,0 +1,246 @@
+/* cmd_pattern.c - the crease-pattern commands:
+ *   smoothfold pattern NAME [options] -o FILE.cfg|FILE.fold
+ *   smoothfold import PATTERN.fold -o STUDY.cfg [--set ...] [--unit U] [--frame N]
+ *   smoothfold export STUDY.cfg -o PATTERN.fold [--set ...]
+ * Each parses its own options (they differ from the study commands'). */
+#define _GNU_SOURCE
+#include "commands.h"
+
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cpattern.h"
+#include "fold.h"
+#include "generators.h"
+#include "study.h"
+
+static const char *pattern_usage =
+    "Usage: smoothfold pattern NAME [OPTION]... -o FILE.cfg|FILE.fold\n"
+    "       smoothfold import PATTERN.fold -o STUDY.cfg [--set KEY=VALUE]... [--unit U] [--frame N]\n"
+    "       smoothfold export STUDY.cfg -o PATTERN.fold [--set KEY=VALUE]...\n"
+    "Crease patterns: the classic tessellations (NAME: miura, yoshimura,\n"
+    "waterbomb) and FOLD files, written as a ready-to-run study (.cfg) or as\n"
+    "FOLD (.fold).  docs/patterns.md, docs/fold-format.md.\n"
+    "\n"
+    "  -o, --output=FILE       the file to write (.cfg: a study; .fold: FOLD)\n"
+    "      --cells=MxN         cells along x and y (default 2x2)\n"
+    "      --size=AxB          panel or cell sizes in m (miura: straight side a,\n"
+    "                          zigzag side b; default per pattern)\n"
+    "      --angle=DEG         miura: sector angle in degrees (default 60)\n"
+    "      --width=W           band width in m (default 0.1 x the shortest fold)\n"
+    "      --fold-angle=DEG    actuation rest angle where the pattern gives none\n"
+    "                          (default 57.3 degrees = 1 rad)\n"
+    "      --modes=K           shape modes per fold (defaults.modes, default 1:\n"
+    "                          degree-4 vertices lock with 0)\n"
+    "      --drive=GROUP       actuation group driven along the path: mountain,\n"
+    "                          valley or all (default all; waterbomb: valley)\n"
+    "      --gravity           gravity as load stage 1 (the analysis becomes a load path)\n"
+    "      --load=N            a downward point load of N newtons on the probe's face\n"
+    "      --include-flat      F (flat) edges become folds too\n"
+    "      --unit=U            import: coordinate unit (m, cm, mm, in, unit = m)\n"
+    "      --frame=N           import: the FOLD frame to read (default: the first\n"
+    "                          crease-pattern frame)\n"
+    "      --set KEY=VALUE     override a study setting (as for run)\n";
+
+typedef struct popts {
+    const char *output;
+    const char *unit;
+    int frame;
+    sf_gen_opts g;
+    int have_cells, have_size, have_angle, have_drive;
+    sf_cp_study_opts s;
+    const char **sets;
+    int nset;
+    char cmdline[400];   /* the command as typed, for the study's header */
+} popts;
+
+static int parse_pair(const char *arg, const char *what, double *x, double *y, sf_error *err)
+{
+    char *end;
+    *x = strtod(arg, &end);
+    if (end == arg || (*end != 'x' && *end != 'X'))
+        return sf_fail(err, SF_EINPUT, "--%s=%s: expected two numbers joined by 'x', e.g. 2x3", what, arg);
+    const char *s = end + 1;
+    *y = strtod(s, &end);
+    if (end == s || *end)
+        return sf_fail(err, SF_EINPUT, "--%s=%s: expected two numbers joined by 'x', e.g. 2x3", what, arg);
+    return SF_OK;
+}
+
+static int parse_num(const char *arg, const char *what, double *x, sf_error *err)
+{
+    char *end;
+    *x = strtod(arg, &end);
+    if (end == arg || *end || !isfinite(*x))
+        return sf_fail(err, SF_EINPUT, "--%s=%s: not a number", what, arg);
+    return SF_OK;
+}
+
+/* defaults.width, defaults.setback and fixed_face given with --set size the
+ * generated folds too */
+static void scan_sets(popts *p)
+{
+    for (int i = 0; i < p->nset; i++) {
+        const char *s = p->sets[i];
+        if (strncmp(s, "defaults.width=", 15) == 0) p->s.width = strtod(s + 15, NULL);
+        else if (strncmp(s, "defaults.setback=", 17) == 0) p->s.setback_given = 1;
+        else if (strncmp(s, "fixed_face=", 11) == 0 &&
+                 sscanf(s + 11, " [ %lf , %lf ]", &p->s.fixed[0], &p->s.fixed[1]) == 2)
+            p->s.fixed_given = 1;
+    }
+}
+
+static int parse(int argc, char **argv, popts *p, sf_error *err)
+{
+    static const struct option lo[] = {
+        {"output", required_argument, NULL, 'o'}, {"cells", required_argument, NULL, 'c'},
+        {"size", required_argument, NULL, 'z'},   {"angle", required_argument, NULL, 'a'},
+        {"width", required_argument, NULL, 'w'},  {"fold-angle", required_argument, NULL, 'f'},
+        {"modes", required_argument, NULL, 'k'},  {"gravity", no_argument, NULL, 'g'},
+        {"load", required_argument, NULL, 'l'},   {"include-flat", no_argument, NULL, 'F'},
+        {"unit", required_argument, NULL, 'u'},   {"frame", required_argument, NULL, 'r'},
+        {"set", required_argument, NULL, 's'},    {"help", no_argument, NULL, 'h'},
+        {"drive", required_argument, NULL, 'd'},
+        {NULL, 0, NULL, 0},
+    };
+    optind = 1;
+    opterr = 0;
+    int c;
+    double x, y;
+    while ((c = getopt_long(argc, argv, "o:h", lo, NULL)) != -1) {
+        switch (c) {
+        case 'o': p->output = optarg; break;
+        case 'c':
+            if (parse_pair(optarg, "cells", &x, &y, err)) return err->code;
+            if (x != floor(x) || y != floor(y))
+                return sf_fail(err, SF_EINPUT, "--cells=%s: whole numbers, e.g. 2x3", optarg);
+            p->g.m = (int)x; p->g.n = (int)y; p->have_cells = 1;
+            break;
+        case 'z':
+            if (parse_pair(optarg, "size", &p->g.a, &p->g.b, err)) return err->code;
+            p->have_size = 1;
+            break;
+        case 'a': if (parse_num(optarg, "angle", &p->g.angle, err)) return err->code; p->have_angle = 1; break;
+        case 'w':
+            if (parse_num(optarg, "width", &p->s.width, err)) return err->code;
+            if (!(p->s.width > 0)) return sf_fail(err, SF_EINPUT, "--width=%s: must be positive", optarg);
+            break;
+        case 'f':
+            if (parse_num(optarg, "fold-angle", &x, err)) return err->code;
+            if (!(x > 0 && x <= 180)) return sf_fail(err, SF_EINPUT, "--fold-angle=%s: must be in (0, 180] degrees", optarg);
+            p->s.fold_angle = x * M_PI / 180;
+            break;
+        case 'k':
+            if (parse_num(optarg, "modes", &x, err)) return err->code;
+            if (x != floor(x) || x < 0 || x > SF_STUDY_MAX_MODES)
+                return sf_fail(err, SF_EINPUT, "--modes=%s: a whole number in 0..%d", optarg, SF_STUDY_MAX_MODES);
+            p->s.modes = (int)x;
+            break;
+        case 'g': p->s.gravity = 1; break;
+        case 'l': if (parse_num(optarg, "load", &p->s.load, err)) return err->code; break;
+        case 'F': p->s.include_flat = 1; break;
+        case 'd':
+            if (strcmp(optarg, "mountain") && strcmp(optarg, "valley") && strcmp(optarg, "all"))
+                return sf_fail(err, SF_EINPUT, "--drive=%s: mountain, valley or all", optarg);
+            p->s.drive = strcmp(optarg, "all") ? optarg : NULL;
+            p->have_drive = 1;
+            break;
+        case 'u': p->unit = optarg; break;
+        case 'r':
+            if (parse_num(optarg, "frame", &x, err)) return err->code;
+            if (x != floor(x) || x < 0) return sf_fail(err, SF_EINPUT, "--frame=%s: a frame index 0, 1, ...", optarg);
+            p->frame = (int)x;
+            break;
+        case 's':
+            if (!strchr(optarg, '=')) return sf_fail(err, SF_EINPUT, "--set needs KEY=VALUE");
+            p->sets[p->nset++] = optarg;
+            break;
+        case 'h': fputs(pattern_usage, stdout); return -1;
+        default:
+            return sf_fail(err, SF_EINPUT, "unknown or incomplete option '%s' (smoothfold %s --help)",
+                           argv[optind - 1], argv[0]);
+        }
+    }
+    scan_sets(p);
+    return SF_OK;
+}
+
+static int ends_with(const char *s, const char *suf)
+{
+    size_t n = strlen(s), m = strlen(suf);
+    return n >= m && strcmp(s + n - m, suf) == 0;
+}
+
+static int cmd_pattern(char **argv, popts *p, sf_error *err)
+{
+    const char *name = argv[optind];
+    sf_gen_opts g;
+    if (sf_gen_defaults(name, &g, err)) return err->code;
+    if (p->have_cells) { g.m = p->g.m; g.n = p->g.n; }
+    if (p->have_size) { g.a = p->g.a; g.b = p->g.b; }
+    if (p->have_angle) g.angle = p->g.angle;
+    if (p->have_angle && strcmp(name, "miura") != 0)
+        return sf_fail(err, SF_EINPUT, "pattern %s: --angle applies to miura only", name);
+    sf_cpattern cp;
+    if (sf_generate(name, &g, &cp, err)) return err->code;
+    /* the waterbomb's path from the flat sheet starts with its valleys
+     * driven alone (with both groups the exact start does not converge) */
+    if (!p->have_drive && strcmp(name, "waterbomb") == 0) p->s.drive = "valley";
+    int rc;
+    if (ends_with(p->output, ".fold")) {
+        rc = sf_fold_write_pattern(&cp, p->output, err);
+    } else {
+        char hdr[900];
+        snprintf(hdr, sizeof hdr, "%s - %s.\n\nGenerated by: %s\n(docs/patterns.md)",
+                 cp.title, cp.description, p->cmdline);
+        p->s.header = hdr;
+        rc = sf_cp_write_study(&cp, &p->s, p->output, p->nset, p->sets, err);
+    }
+    sf_cp_free(&cp);
+    return rc;
+}
+
+int sf_cmd_is_pattern(const char *cmd)
+{
+    return strcmp(cmd, "pattern") == 0 || strcmp(cmd, "import") == 0 || strcmp(cmd, "export") == 0;
+}
+
+int sf_cmd_pattern(int argc, char **argv, sf_error *err)
+{
+    popts p;
+    memset(&p, 0, sizeof p);
+    sf_cp_study_opts_default(&p.s);
+    p.frame = -1;
+    p.sets = calloc((size_t)argc + 1, sizeof *p.sets);
+    if (!p.sets) return sf_fail(err, SF_ENOMEM, "out of memory");
+    for (int i = 0; i < argc; i++) {
+        size_t l = strlen(p.cmdline);
+        snprintf(p.cmdline + l, sizeof p.cmdline - l, "%s%s", i ? " " : "smoothfold ", argv[i]);
+    }
+    int rc = parse(argc, argv, &p, err);
+    if (rc < 0) { free(p.sets); return SF_OK; }
+    if (!rc && !p.output) rc = sf_fail(err, SF_EINPUT, "%s: give the output file with -o FILE", argv[0]);
+    if (!rc && optind + 1 != argc)
+        rc = sf_fail(err, SF_EINPUT, "%s: expected %s", argv[0],
+                     strcmp(argv[0], "pattern") == 0 ? "one pattern name (miura, yoshimura, waterbomb)"
+                     : strcmp(argv[0], "import") == 0 ? "one FOLD file" : "one study file");
+    if (rc) { free(p.sets); return SF_CMD_USAGE; }
+    if (!rc) {
+        if (strcmp(argv[0], "pattern") == 0) {
+            if (!ends_with(p.output, ".cfg") && !ends_with(p.output, ".fold")) {
+                sf_fail(err, SF_EINPUT, "pattern: -o %s: the output must end in .cfg (a study) or .fold", p.output);
+                rc = SF_CMD_USAGE;
+            }
+            else rc = cmd_pattern(argv, &p, err);
+        } else if (strcmp(argv[0], "import") == 0) {
+            rc = sf_cmd_import(argc, argv, p.output, p.unit, p.frame, &p.s, p.nset, p.sets, err);
+        } else {
+            rc = sf_cmd_export(argc, argv, p.output, p.nset, p.sets, err);
+        }
+    }
+    free(p.sets);
+    return rc;
+}

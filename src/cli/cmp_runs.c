@@ -1,0 +1,228 @@
+/* cmp_runs.c - `smoothfold compare DIR_A DIR_B`: how far apart two
+ * equilibrium runs of the same sheet are (K against K+1 shape modes, two
+ * step sizes, two solvers).
+ *
+ * Reads branch 1 of DIR_A/branch.tsv and DIR_B/branch.tsv, keeps the first
+ * stretch of each along which p is monotone (a limit point ends it: past
+ * it, p no longer names one state), and for every point of A inside B's
+ * p range interpolates B linearly in p.  For every probe displacement and
+ * fold angle column (`probe*`, `theta*`) it prints the largest difference
+ * and where it occurs.  No NaN reaches the table: a non-numeric field is
+ * an error naming file and line.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "commands.h"
+
+typedef struct run_table {
+    char path[1100];
+    int ncol;
+    char **name;       /* column names */
+    int cp;            /* index of p */
+    int n, cap;        /* rows kept */
+    double *v;         /* n x ncol */
+} run_table;
+
+static void table_free(run_table *t)
+{
+    for (int i = 0; i < t->ncol; i++) free(t->name[i]);
+    free(t->name);
+    free(t->v);
+    memset(t, 0, sizeof *t);
+}
+
+static int col_index(const run_table *t, const char *name)
+{
+    for (int i = 0; i < t->ncol; i++)
+        if (strcmp(t->name[i], name) == 0) return i;
+    return -1;
+}
+
+static int parse_header(run_table *t, char *line, sf_error *err)
+{
+    for (char *tok = strtok(line, "\t\n"); tok; tok = strtok(NULL, "\t\n")) {
+        char **nn = realloc(t->name, sizeof(char *) * (size_t)(t->ncol + 1));
+        if (!nn) return sf_fail(err, SF_ENOMEM, "out of memory");
+        t->name = nn;
+        if (!(t->name[t->ncol] = strdup(tok))) return sf_fail(err, SF_ENOMEM, "out of memory");
+        t->ncol++;
+    }
+    t->cp = col_index(t, "p");
+    if (t->cp < 0 || col_index(t, "branch") < 0)
+        return sf_fail(err, SF_EINPUT, "%s: header row has no 'p' or 'branch' column "
+                       "(not a branch table of `smoothfold run`)", t->path);
+    return SF_OK;
+}
+
+/* One data row into t->v (only columns that are probes, thetas, p and
+ * branch need to be numbers; others are read as NaN and never used). */
+static int parse_row(run_table *t, char *line, int lineno, int *branch, double *row,
+                     sf_error *err)
+{
+    int cb = col_index(t, "branch");
+    char *p = line;
+    *branch = 0;
+    for (int c = 0; c < t->ncol; c++) {
+        char *tab = strchr(p, '\t');
+        if (tab) *tab = '\0';
+        char *nl = strchr(p, '\n');
+        if (nl) *nl = '\0';
+        const char *nm = t->name[c];
+        int need = c == t->cp || c == cb || strncmp(nm, "probe", 5) == 0 ||
+                   strncmp(nm, "theta", 5) == 0;
+        row[c] = NAN;
+        if (need) {
+            char *end;
+            errno = 0;
+            double x = strtod(p, &end);
+            if (end == p || *end || errno || !isfinite(x))
+                return sf_fail(err, SF_EINPUT, "%s:%d: column %s: not a finite number ('%s')",
+                               t->path, lineno, nm, p);
+            row[c] = x;
+        }
+        if (!tab) {
+            if (c + 1 < t->ncol)
+                return sf_fail(err, SF_EINPUT, "%s:%d: %d fields, the header has %d", t->path,
+                               lineno, c + 1, t->ncol);
+            break;
+        }
+        p = tab + 1;
+    }
+    *branch = (int)row[cb];
+    return SF_OK;
+}
+
+/* Read branch 1 of DIR/branch.tsv, up to its first reversal of p. */
+static int table_read(run_table *t, const char *dir, sf_error *err)
+{
+    memset(t, 0, sizeof *t);
+    snprintf(t->path, sizeof t->path, "%s/branch.tsv", dir);
+    FILE *f = fopen(t->path, "r");
+    if (!f) return sf_fail(err, SF_EIO, "%s: cannot read: %s (is %s the output of `smoothfold run`?)",
+                           t->path, strerror(errno), dir);
+    char line[65536];
+    int lineno = 0, rc = SF_OK, dir_sign = 0, done = 0;
+    double *row = NULL;
+    while (!rc && !done && fgets(line, sizeof line, f)) {
+        lineno++;
+        if (line[0] == '#' || line[0] == '\n') continue;
+        if (!t->name) {
+            rc = parse_header(t, line, err);
+            if (!rc && !(row = malloc(sizeof(double) * (size_t)t->ncol)))
+                rc = sf_fail(err, SF_ENOMEM, "out of memory");
+            continue;
+        }
+        int br = 0;
+        if ((rc = parse_row(t, line, lineno, &br, row, err))) break;
+        if (br != 1) break;
+        if (t->n > 0) {
+            double dp = row[t->cp] - t->v[(size_t)(t->n - 1) * t->ncol + t->cp];
+            int sg = dp > 0 ? 1 : dp < 0 ? -1 : 0;
+            if (sg == 0) continue;
+            if (dir_sign == 0) dir_sign = sg;
+            else if (sg != dir_sign) { done = 1; break; }
+        }
+        if (t->n == t->cap) {
+            t->cap = t->cap ? 2 * t->cap : 64;
+            double *nv = realloc(t->v, sizeof(double) * (size_t)t->cap * t->ncol);
+            if (!nv) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); break; }
+            t->v = nv;
+        }
+        memcpy(t->v + (size_t)t->n * t->ncol, row, sizeof(double) * t->ncol);
+        t->n++;
+    }
+    free(row);
+    fclose(f);
+    if (!rc && !t->name) rc = sf_fail(err, SF_EINPUT, "%s: no header row", t->path);
+    if (!rc && t->n < 2)
+        rc = sf_fail(err, SF_EINPUT, "%s: fewer than two points on branch 1", t->path);
+    return rc;
+}
+
+/* B's column c interpolated at parameter p; 0 when p is outside B. */
+static int interp(const run_table *b, int c, double p, double *out)
+{
+    const double *v = b->v;
+    int w = b->ncol, cp = b->cp;
+    for (int i = 0; i + 1 < b->n; i++) {
+        double p0 = v[(size_t)i * w + cp], p1 = v[(size_t)(i + 1) * w + cp];
+        if ((p - p0) * (p - p1) <= 0) {
+            double a = p1 == p0 ? 0.0 : (p - p0) / (p1 - p0);
+            *out = (1 - a) * v[(size_t)i * w + c] + a * v[(size_t)(i + 1) * w + c];
+            return 1;
+        }
+    }
+    return 0;
+}
+
+static int compare_tables(const run_table *a, const run_table *b, const sf_options *o,
+                          sf_error *err)
+{
+    int na = 0, nb = 0;
+    for (int c = 0; c < a->ncol; c++)
+        na += !strncmp(a->name[c], "probe", 5) || !strncmp(a->name[c], "theta", 5);
+    for (int c = 0; c < b->ncol; c++)
+        nb += !strncmp(b->name[c], "probe", 5) || !strncmp(b->name[c], "theta", 5);
+    if (na != nb)
+        return sf_fail(err, SF_EINPUT, "%s and %s: not the same sheet (%d and %d probe and "
+                       "fold angle columns)", a->path, b->path, na, nb);
+    printf("# smoothfold compare: %s against %s (branch 1, B interpolated in p)\n", a->path, b->path);
+    printf("column\tmax_abs_diff\tat_p\tmax_abs_A\trelative\tpoints\n");
+    int worst_c = -1, above = 0, wk[2] = {-1, -1};
+    double worst = -1, wv[2] = {-1, -1};   /* per kind: probes [m], angles [rad] */
+    long used_total = 0;
+    for (int c = 0; c < a->ncol; c++) {
+        const char *nm = a->name[c];
+        if (strncmp(nm, "probe", 5) && strncmp(nm, "theta", 5)) continue;
+        int cb = col_index(b, nm);
+        if (cb < 0)
+            return sf_fail(err, SF_EINPUT, "%s: no column %s (in %s): not the same sheet",
+                           b->path, nm, a->path);
+        double dmax = 0, at = NAN, amax = 0;
+        int used = 0;
+        for (int i = 0; i < a->n; i++) {
+            double p = a->v[(size_t)i * a->ncol + a->cp], vb;
+            if (!interp(b, cb, p, &vb)) continue;
+            double va = a->v[(size_t)i * a->ncol + c], d = fabs(va - vb);
+            amax = fmax(amax, fabs(va));
+            if (d > dmax || used == 0) { dmax = d; at = p; }
+            used++;
+        }
+        if (!used)
+            return sf_fail(err, SF_EINPUT, "%s and %s: no point of A within the p range of B",
+                           a->path, b->path);
+        used_total = used;
+        printf("%s\t%.6g\t%.6g\t%.6g\t", nm, dmax, at, amax);
+        if (amax > 0) printf("%.3g", dmax / amax); else printf("-");
+        printf("\t%d\n", used);
+        int kind = nm[0] == 't';
+        if (dmax > wv[kind]) { wv[kind] = dmax; wk[kind] = c; }
+        if (o->have_tol && dmax > o->tol && (worst_c < 0 || dmax > worst)) { worst = dmax; worst_c = c; }
+        if (o->have_tol && dmax > o->tol) above++;
+    }
+    for (int k = 0; k < 2; k++)
+        if (wk[k] >= 0)
+            printf("# largest %s difference: %s %.6g %s over %ld matched points\n",
+                   k ? "fold angle" : "probe", a->name[wk[k]], wv[k], k ? "rad" : "m", used_total);
+    if (above)
+        return sf_fail(err, SF_EDIFFER, "compare: %d column%s differ by more than --tol=%g "
+                       "(largest: %s, %.6g)", above, above == 1 ? "" : "s", o->tol,
+                       a->name[worst_c], worst);
+    return SF_OK;
+}
+
+int sf_cmd_compare(const char *dir_a, const char *dir_b, const sf_options *o, sf_error *err)
+{
+    run_table a, b;
+    memset(&b, 0, sizeof b);
+    int rc = table_read(&a, dir_a, err);
+    if (!rc) rc = table_read(&b, dir_b, err);
+    if (!rc) rc = compare_tables(&a, &b, o, err);
+    table_free(&a);
+    table_free(&b);
+    return rc;
+}

@@ -1,0 +1,374 @@
+/* cp_study.c - a crease pattern (cpattern.h) written as a commented,
+ * ready-to-run study: outline from the boundary edges, folds from the M, V
+ * and U edges with their assignment, automatic setbacks, actuation groups
+ * "mountain" and "valley", the fixed face nearest the centroid and a probe
+ * on the face farthest from it.  The written file is read back and its
+ * topology built before it is put in place. */
+#include "cpattern.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "outbuf.h"
+#include "study.h"
+#include "topology.h"
+#include "vtk.h"
+
+void sf_cp_study_opts_default(sf_cp_study_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->fold_angle = 1.0;
+    o->modes = 1;
+}
+
+typedef struct plan {
+    const sf_cpattern *cp;
+    const sf_cp_study_opts *o;
+    int *outline, noutline;     /* cp vertex indices, ccw, collinear fold ends dropped */
+    int nfold;
+    int *fold_edge;             /* fold k -> cp edge */
+    double *width;              /* per cp edge (0 for non-folds) [m] */
+    double (*sb)[2];            /* per cp edge [m] */
+    double *rest;               /* per fold: rest angle [rad], NAN for none */
+    int ngroup;
+    double grest[64];           /* group rest angles [rad] */
+    char gname[64][SF_NAME_MAX];
+    int *group;                 /* per fold: group index or -1 */
+    char (*vname)[SF_NAME_MAX]; /* per cp vertex */
+    char *vused;
+    double w;                   /* the band width [m] */
+    double fixed[2], probe[2];
+} plan;
+
+static void plan_free(plan *p)
+{
+    free(p->outline); free(p->fold_edge); free(p->width); free(p->sb);
+    free(p->rest); free(p->group); free(p->vname); free(p->vused);
+}
+
+static int is_ident(const char *s)
+{
+    if (!*s || !(((*s | 32) >= 'a' && (*s | 32) <= 'z') || *s == '_')) return 0;
+    for (; *s; s++)
+        if (!(((*s | 32) >= 'a' && (*s | 32) <= 'z') || (*s >= '0' && *s <= '9') || *s == '_' || *s == '-'))
+            return 0;
+    return 1;
+}
+
+static int is_fold(const sf_cpattern *cp, const sf_cp_study_opts *o, int e)
+{
+    char a = cp->e[e].assign;
+    return a == 'M' || a == 'V' || a == 'U' || (a == 'F' && o->include_flat);
+}
+
+static int add_group(plan *p, const char *base, double rest)
+{
+    for (int g = 0; g < p->ngroup; g++)
+        if (fabs(p->grest[g] - rest) <= 1e-12 * fabs(rest)) return g;
+    if (p->ngroup == 64) return -1;
+    int same = 0;
+    for (int g = 0; g < p->ngroup; g++)
+        if (strncmp(p->gname[g], base, strlen(base)) == 0) same++;
+    if (same) snprintf(p->gname[p->ngroup], SF_NAME_MAX, "%s%d", base, same + 1);
+    else snprintf(p->gname[p->ngroup], SF_NAME_MAX, "%s", base);
+    p->grest[p->ngroup] = rest;
+    return p->ngroup++;
+}
+
+static int plan_make(plan *p, const sf_cpattern *cp, const sf_cp_study_opts *o, sf_error *err)
+{
+    memset(p, 0, sizeof *p);
+    p->cp = cp;
+    p->o = o;
+    int *loop, nl;
+    if (sf_cp_outline(cp, &loop, &nl, NULL, err)) return err->code;
+    p->fold_edge = malloc((size_t)cp->ne * sizeof *p->fold_edge);
+    p->width = calloc((size_t)cp->ne, sizeof *p->width);
+    p->sb = calloc((size_t)cp->ne, sizeof *p->sb);
+    p->rest = malloc((size_t)cp->ne * sizeof *p->rest);
+    p->group = malloc((size_t)cp->ne * sizeof *p->group);
+    p->vname = calloc((size_t)cp->nv, sizeof *p->vname);
+    p->vused = calloc((size_t)cp->nv, 1);
+    p->outline = malloc((size_t)nl * sizeof *p->outline);
+    if (!p->fold_edge || !p->width || !p->sb || !p->rest || !p->group || !p->vname ||
+        !p->vused || !p->outline) {
+        free(loop);
+        return sf_fail(err, SF_ENOMEM, "out of memory");
+    }
+    double lmin = INFINITY;
+    for (int e = 0; e < cp->ne; e++) {
+        if (!is_fold(cp, o, e)) continue;
+        const double *a = cp->v[cp->e[e].a].x, *b = cp->v[cp->e[e].b].x;
+        double l = cp->unit * hypot(b[0] - a[0], b[1] - a[1]);
+        if (l < lmin) lmin = l;
+        p->fold_edge[p->nfold++] = e;
+        p->vused[cp->e[e].a] = p->vused[cp->e[e].b] = 1;
+    }
+    if (p->nfold == 0) {
+        free(loop);
+        return sf_fail(err, SF_EINPUT, "the crease pattern has no folds (no M, V or U edges%s)",
+                       o->include_flat ? ", nor F" : "");
+    }
+    if (o->width > 0) p->w = o->width;
+    else {   /* 0.1 x the shortest fold, to 3 digits */
+        char wb[40];
+        snprintf(wb, sizeof wb, "%.3g", 0.1 * lmin);
+        p->w = strtod(wb, NULL);
+    }
+    for (int k = 0; k < p->nfold; k++) p->width[p->fold_edge[k]] = p->w;
+    /* setbacks in pattern units, then metres */
+    double *wu = malloc((size_t)cp->ne * sizeof *wu);
+    if (!wu) { free(loop); return sf_fail(err, SF_ENOMEM, "out of memory"); }
+    for (int e = 0; e < cp->ne; e++) wu[e] = p->width[e] / cp->unit;
+    sf_cp_setbacks(cp, wu, loop, nl, 1.25, 0.1, p->sb);
+    free(wu);
+    for (int e = 0; e < cp->ne; e++) { p->sb[e][0] *= cp->unit; p->sb[e][1] *= cp->unit; }
+    /* outline: drop vertices on a straight stretch that only end folds
+     * (the topology inserts them again) */
+    for (int k = 0; k < nl; k++) {
+        int v = loop[k], u = loop[(k + nl - 1) % nl], x = loop[(k + 1) % nl];
+        const double *a = cp->v[u].x, *b = cp->v[v].x, *c = cp->v[x].x;
+        double cr = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        double l = hypot(c[0] - a[0], c[1] - a[1]);
+        if (fabs(cr) <= 1e-12 * l * l && p->vused[v]) continue;
+        p->outline[p->noutline++] = v;
+        p->vused[v] = 1;
+    }
+    free(loop);
+    /* vertex names: the pattern's where usable and unique, else v<index+1> */
+    for (int v = 0; v < cp->nv; v++) {
+        const char *nm = cp->v[v].name;
+        int ok = is_ident(nm) && strlen(nm) < SF_NAME_MAX;
+        for (int u = 0; ok && u < v; u++)
+            if (strcmp(p->vname[u], nm) == 0) ok = 0;
+        if (ok) snprintf(p->vname[v], SF_NAME_MAX, "%s", nm);
+        else snprintf(p->vname[v], SF_NAME_MAX, "v%d", v + 1);
+    }
+    /* rest angles and actuation groups */
+    for (int k = 0; k < p->nfold; k++) {
+        const sf_cp_edge *e = &cp->e[p->fold_edge[k]];
+        p->group[k] = -1;
+        p->rest[k] = NAN;
+        if (e->assign != 'M' && e->assign != 'V') continue;
+        double sg = e->assign == 'V' ? 1.0 : -1.0;
+        double r = isfinite(e->angle) && e->angle != 0 ? e->angle * M_PI / 180 : sg * o->fold_angle;
+        p->rest[k] = r;
+        p->group[k] = add_group(p, e->assign == 'V' ? "valley" : "mountain", r);
+        if (p->group[k] < 0)
+            return sf_fail(err, SF_EINPUT, "more than 64 different fold angles: too many actuation groups");
+    }
+    return SF_OK;
+}
+
+static const char *real(char *b, double x) { sf_cp_real(b, 40, x); return b; }
+
+static void emit(const plan *p, sf_outbuf *b, const char *name)
+{
+    const sf_cpattern *cp = p->cp;
+    const sf_cp_study_opts *o = p->o;
+    char r1[40], r2[40], r3[40];
+    if (o->header) {
+        const char *s = o->header;
+        while (*s) {
+            const char *nl = strchr(s, '\n');
+            int len = nl ? (int)(nl - s) : (int)strlen(s);
+            sf_outbuf_printf(b, "# %.*s\n", len, s);
+            s += len + (nl ? 1 : 0);
+        }
+    }
+    sf_outbuf_printf(b, "#\n# Folds: mountain (assignment \"M\") and valley (\"V\") by FOLD's sign\n"
+                     "# convention, valley positive (docs/study-format.md).  Setbacks were sized\n"
+                     "# so that no two bands overlap (1.25 x the distance at which their edges\n"
+                     "# meet, at least 0.1 x the width); change width and setbacks together.\n"
+                     "# SI units: m, N, Pa, kg/m^3, rad.\n\n");
+    sf_outbuf_printf(b, "name = \"%s\";\n", name);
+    if (cp->description[0]) sf_outbuf_printf(b, "description = \"%s\";\n", cp->description);
+    sf_outbuf_printf(b, "\nvertices = {\n");
+    for (int v = 0; v < cp->nv; v++)
+        if (p->vused[v])
+            sf_outbuf_printf(b, "  %s = [%s, %s];\n", p->vname[v], real(r1, cp->unit * cp->v[v].x[0]),
+                             real(r2, cp->unit * cp->v[v].x[1]));
+    sf_outbuf_printf(b, "};\n\nsheet = { outline = [");
+    for (int k = 0; k < p->noutline; k++)
+        sf_outbuf_printf(b, "%s\"%s\"", k ? ", " : "", p->vname[p->outline[k]]);
+    sf_outbuf_printf(b, "]; };\n\n");
+    sf_outbuf_printf(b, "materials = {\n"
+                     "  fold = { E = 15.2e6; nu = 0.45; thickness = 1.8e-3; density = 1200.0; };\n"
+                     "  face = { thickness = 2.0e-3; density = 1040.0; };\n"
+                     "};\nfaces = { material = \"face\"; };\n\n");
+    sf_outbuf_printf(b, "defaults = {\n  width = %s;   # band width of every fold\n"
+                     "  continuity = 1;\n  modes = %d;\n  material = \"fold\";\n};\n\n",
+                     real(r1, p->w), o->modes);
+    if (p->ngroup) {
+        sf_outbuf_printf(b, "# Actuation: the rest angle of each group's folds at actuation parameter 1.\n"
+                         "actuation = (\n");
+        for (int g = 0; g < p->ngroup; g++)
+            sf_outbuf_printf(b, "  { name = \"%s\"; rest_angle = %s; }%s   # %.6g degrees\n", p->gname[g],
+                             real(r1, p->grest[g]), g + 1 < p->ngroup ? "," : "",
+                             p->grest[g] * 180 / M_PI);
+        sf_outbuf_printf(b, ");\n\n");
+    }
+    sf_outbuf_printf(b, "folds = (\n");
+    for (int k = 0; k < p->nfold; k++) {
+        int e = p->fold_edge[k];
+        const sf_cp_edge *ed = &cp->e[e];
+        sf_outbuf_printf(b, "  { ");
+        if (ed->name[0] && is_ident(ed->name)) sf_outbuf_printf(b, "name = \"%s\"; ", ed->name);
+        sf_outbuf_printf(b, "from = \"%s\"; to = \"%s\";", p->vname[ed->a], p->vname[ed->b]);
+        if (ed->assign == 'M' || ed->assign == 'V')
+            sf_outbuf_printf(b, " assignment = \"%c\"; group = \"%s\";", ed->assign, p->gname[p->group[k]]);
+        if (!o->setback_given)
+            sf_outbuf_printf(b, " setback = [%.4g, %.4g];", p->sb[e][0], p->sb[e][1]);
+        sf_outbuf_printf(b, " }%s%s\n", k + 1 < p->nfold ? "," : "",
+                         ed->assign == 'U' ? "   # unassigned" : ed->assign == 'F' ? "   # flat" : "");
+    }
+    sf_outbuf_printf(b, ");\n\n");
+    sf_outbuf_printf(b, "fixed_face = [%s, %s];   # the face nearest the centroid\n\n",
+                     real(r1, p->fixed[0]), real(r2, p->fixed[1]));
+    sf_outbuf_printf(b, "probes = ( { name = \"tip\"; at = [%s, %s]; } );   # the face farthest from the fixed one\n\n",
+                     real(r1, p->probe[0]), real(r2, p->probe[1]));
+    int nstage = 0;
+    if (o->gravity) {
+        nstage++;
+        sf_outbuf_printf(b, "gravity = { g = [0.0, 0.0, -9.81]; stage = 1; };\n\n");
+    }
+    if (o->load != 0) {
+        nstage++;
+        sf_outbuf_printf(b, "loads = ( { at = [%s, %s]; force = [0.0, 0.0, %s]; stage = %d; } );\n\n",
+                         real(r1, p->probe[0]), real(r2, p->probe[1]), real(r3, -o->load), nstage);
+    }
+    sf_outbuf_printf(b, "solver = { constraints = \"exact\"; tolerance = 1e-10; };\n"
+                     "output = { samples = 8; shapes = 10; };\n\n");
+    if (nstage)
+        sf_outbuf_printf(b, "analysis = {\n  type = \"equilibrium\";\n  parameter = \"load\";   # %s\n"
+                         "  end = %d.0;\n  step = 0.05;\n  max_step = 0.1;\n  report = \"tip\";\n};\n",
+                         nstage == 2 ? "stage 1 gravity, stage 2 the point load" : o->gravity ? "gravity" : "the point load",
+                         nstage);
+    else if (p->ngroup && o->drive)
+        sf_outbuf_printf(b, "analysis = {\n  type = \"equilibrium\";\n"
+                         "  parameter = \"actuation\";   # the rest angle of group '%s' from 0 to its rest_angle\n"
+                         "  group = \"%s\";\n"
+                         "  end = 1.0;\n  step = 0.05;\n  max_step = 0.1;\n  report = \"tip\";\n};\n",
+                         o->drive, o->drive);
+    else if (p->ngroup)
+        sf_outbuf_printf(b, "analysis = {\n  type = \"equilibrium\";\n"
+                         "  parameter = \"actuation\";   # every group's rest angle from 0 to its rest_angle\n"
+                         "  end = 1.0;\n  step = 0.05;\n  max_step = 0.1;\n  report = \"tip\";\n};\n");
+    else
+        sf_outbuf_printf(b, "analysis = { type = \"none\"; };   # no assigned folds to actuate: add loads\n");
+}
+
+static int write_text(const char *path, sf_outbuf *b, sf_error *err)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) return sf_fail(err, SF_EIO, "%s: cannot write: %s", path, strerror(errno));
+    size_t n = fwrite(b->s, 1, b->n, f);
+    int bad = n != b->n;
+    if (fclose(f) != 0) bad = 1;
+    if (bad) { remove(path); return sf_fail(err, SF_EIO, "%s: cannot write: %s", path, strerror(errno)); }
+    return SF_OK;
+}
+
+/* first pass: the fixed face (nearest the centroid) and the probe (on the
+ * face farthest from it), from the topology of the written study */
+static int choose_faces(plan *p, const char *tmp, sf_error *err)
+{
+    sf_study s;
+    sf_topology t;
+    memset(&t, 0, sizeof t);
+    int rc = sf_study_load(tmp, 0, NULL, &s, err);
+    if (!rc) rc = sf_topology_build(&s, &t, err);
+    if (rc) { sf_study_free(&s); sf_topology_free(&t); return rc; }
+    double c[2] = {0, 0}, A = 0;
+    for (int f = 0; f < t.nfaces; f++) {
+        A += t.faces[f].area;
+        c[0] += t.faces[f].area * t.faces[f].centroid[0];
+        c[1] += t.faces[f].area * t.faces[f].centroid[1];
+    }
+    c[0] /= A; c[1] /= A;
+    int best = -1;
+    double dbest = INFINITY;
+    for (int f = 0; f < t.nfaces; f++) {
+        const sf_face *fc = &t.faces[f];
+        if (!sf_polygon_contains(&fc->body, fc->centroid, 0)) continue;
+        double d = hypot(fc->centroid[0] - c[0], fc->centroid[1] - c[1]);
+        if (d < dbest - 1e-12 * t.size) { dbest = d; best = f; }
+    }
+    if (best < 0) best = 0;
+    if (!p->o->fixed_given) { p->fixed[0] = t.faces[best].centroid[0]; p->fixed[1] = t.faces[best].centroid[1]; }
+    int far = best;
+    double dfar = -1;
+    for (int f = 0; f < t.nfaces; f++) {
+        const sf_face *fc = &t.faces[f];
+        if (!sf_polygon_contains(&fc->body, fc->centroid, 0)) continue;
+        double d = hypot(fc->centroid[0] - p->fixed[0], fc->centroid[1] - p->fixed[1]);
+        if (d > dfar + 1e-12 * t.size) { dfar = d; far = f; }
+    }
+    p->probe[0] = t.faces[far].centroid[0];
+    p->probe[1] = t.faces[far].centroid[1];
+    sf_topology_free(&t);
+    sf_study_free(&s);
+    return SF_OK;
+}
+
+int sf_cp_write_study(const sf_cpattern *cp, const sf_cp_study_opts *o,
+                      const char *path, int nset, const char *const *sets,
+                      sf_error *err)
+{
+    plan p;
+    int rc = plan_make(&p, cp, o, err);
+    if (rc) { plan_free(&p); return rc; }
+    const char *name = o->name ? o->name : cp->title[0] ? cp->title : "pattern";
+    char tmp[1100];
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    /* a point just inside the first outline edge for the first pass */
+    {
+        const double *a = cp->v[p.outline[0]].x, *bb = cp->v[p.outline[1]].x;
+        double d[2] = {bb[0] - a[0], bb[1] - a[1]}, l = hypot(d[0], d[1]);
+        p.fixed[0] = cp->unit * (0.5 * (a[0] + bb[0]) - 1e-3 * d[1] / l * l);
+        p.fixed[1] = cp->unit * (0.5 * (a[1] + bb[1]) + 1e-3 * d[0] / l * l);
+        if (o->fixed_given) { p.fixed[0] = o->fixed[0]; p.fixed[1] = o->fixed[1]; }
+        p.probe[0] = p.fixed[0]; p.probe[1] = p.fixed[1];
+    }
+    sf_outbuf b = {0};
+    for (int pass = 0; pass < 2 && !rc; pass++) {
+        b.n = 0;
+        emit(&p, &b, name);
+        if (b.oom) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); break; }
+        rc = write_text(tmp, &b, err);
+        if (!rc && pass == 0) rc = choose_faces(&p, tmp, err);
+    }
+    sf_outbuf_free(&b);
+    if (!rc) {   /* the final check, with the overrides */
+        sf_study s;
+        sf_topology t;
+        memset(&t, 0, sizeof t);
+        rc = sf_study_load(tmp, nset, (const char **)sets, &s, err);
+        if (!rc) rc = sf_topology_build(&s, &t, err);
+        if (!rc && nset > 0) {
+            char hdr[600];
+            snprintf(hdr, sizeof hdr, "%s\n(written with --set overrides: the merged study)",
+                     o->header ? o->header : name);
+            rc = sf_study_write(&s, path, hdr, err);
+        } else if (!rc && rename(tmp, path) != 0) {
+            rc = sf_fail(err, SF_EIO, "%s: cannot write: %s", path, strerror(errno));
+        }
+        sf_topology_free(&t);
+        sf_study_free(&s);
+    }
+    if (rc) {
+        /* a message about the temporary file names the output instead */
+        char *at = strstr(err->msg, tmp);
+        if (at) {
+            char rest[1024];
+            snprintf(rest, sizeof rest, "%s", at + strlen(tmp));
+            snprintf(at, sizeof err->msg - (size_t)(at - err->msg), "%s (generated)%s", path, rest);
+        }
+    }
+    remove(tmp);
+    plan_free(&p);
+    return rc;
+}

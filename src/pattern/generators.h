@@ -1,0 +1,37 @@
+/* generators.h - crease patterns of the classic tessellations, from a few
+ * parameters (docs/patterns.md):
+ *
+ *   miura      Miura-ori: m x n cells of 2 x 2 parallelogram panels with
+ *              straight sides a (along x) and zigzag sides b at the sector
+ *              angle (degrees, 0 < angle < 90) to the x axis
+ *   yoshimura  Yoshimura (diamond) pattern: m diamonds of width a along x,
+ *              n rows of height b; horizontal creases mountain, diagonals
+ *              valley
+ *   waterbomb  waterbomb tessellation: m x n waterbomb bases of a x b
+ *              (two valley diagonals and a mountain midline each), every
+ *              other row shifted by a/2, mountain lines between the rows
+ *
+ * Coordinates in metres, the sheet from (0, 0); assignments M and V by
+ * FOLD's convention (valley positive).  Vertex names record the lattice
+ * position (miura: "v<i>_<j>"). */
+#ifndef SF_GENERATORS_H
+#define SF_GENERATORS_H
+
+#include "cpattern.h"
+
+typedef struct sf_gen_opts {
+    int m, n;          /* cells along x and y */
+    double a, b;       /* panel (cell) sizes [m] */
+    double angle;      /* miura: sector angle [deg] */
+} sf_gen_opts;
+
+/* Names of the generators, for messages: "miura, yoshimura, waterbomb". */
+const char *sf_gen_names(void);
+/* Defaults of generator name; SF_EINPUT when there is no such generator. */
+int sf_gen_defaults(const char *name, sf_gen_opts *o, sf_error *err);
+/* Build the pattern (cp initialised here; free with sf_cp_free).  Checks
+ * the parameters (cells >= 1, sizes > 0, the angle's range). */
+int sf_generate(const char *name, const sf_gen_opts *o, sf_cpattern *cp,
+                sf_error *err);
+
+#endif

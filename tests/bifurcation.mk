@@ -1,0 +1,7 @@
+# the bifurcation bookkeeping (src/analysis/bifurcation.h) on its own:
+# crossings located against closed forms and bisection, branch switching
+check_PROGRAMS += tests/test_bifurcation
+TESTS += tests/test_bifurcation
+tests_test_bifurcation_SOURCES = tests/test_bifurcation.c
+tests_test_bifurcation_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_bifurcation_LDADD = $(SF_TEST_LIBS)

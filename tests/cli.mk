@@ -1,0 +1,5 @@
+# tests/cli.mk: the command line, output directories and run comparison
+# (issue 14), all shell scripts speaking TAP.
+TESTS += tests/test_cli.sh tests/test_outdir.sh tests/test_cmp_runs.sh tests/test_plots.sh
+EXTRA_DIST += tests/test_cli.sh tests/test_outdir.sh tests/test_cmp_runs.sh tests/test_plots.sh \
+	tests/fuzz/fuzz_study.c tests/fuzz/run.sh tests/fuzz/lsan.supp

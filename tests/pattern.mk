@@ -1,0 +1,10 @@
+# tests/pattern.mk: crease patterns, generators and FOLD files
+check_PROGRAMS += tests/test_pattern
+TESTS += tests/test_pattern
+tests_test_pattern_SOURCES = tests/test_pattern.c
+tests_test_pattern_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_pattern_LDADD = $(SF_TEST_LIBS)
+TESTS += tests/test_pattern.sh
+EXTRA_DIST += tests/test_pattern.sh
+EXTRA_DIST += $(wildcard $(srcdir)/tests/bad/study_assignment_*.cfg) \
+	$(wildcard $(srcdir)/tests/bad/study_assignment_*.expect)

@@ -1,0 +1,254 @@
+/* test_pattern.c - the tessellation generators (src/pattern/generators.c)
+ * and the automatic setbacks (src/pattern/cpattern.c).
+ *
+ * Independent checks: vertex, edge and face counts from the lattice
+ * formulas; Maekawa (|#M - #V| = 2) and Kawasaki (alternating sector
+ * angles sum to pi) at the interior vertices of the flat-foldable patterns
+ * (Miura-ori, Yoshimura, and the degree-6 vertices of the waterbomb);
+ * the sheet area; the setback formula against the distance at which two
+ * band edge lines meet, computed by intersecting the lines. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "generators.h"
+#include "sf_test.h"
+
+#define CHECK_OK(call, err)                                                    \
+    do {                                                                       \
+        int rc_ = (call);                                                      \
+        if (rc_ != SF_OK) {                                                    \
+            print_error("expected SF_OK, got %d: %s\n", rc_, (err).msg);       \
+            fail();                                                            \
+        }                                                                      \
+    } while (0)
+
+#define CHECK_CONTAINS(msg, sub)                                               \
+    do {                                                                       \
+        if (!strstr((msg), (sub))) {                                           \
+            print_error("expected a message containing '%s', got '%s'\n", (sub), (msg)); \
+            fail();                                                            \
+        }                                                                      \
+    } while (0)
+
+typedef struct vstat { int deg, nm, nv, nb; double ang[16]; } vstat;
+
+static int dcmp(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static void stats(const sf_cpattern *cp, vstat *vs)
+{
+    memset(vs, 0, (size_t)cp->nv * sizeof *vs);
+    for (int e = 0; e < cp->ne; e++)
+        for (int k = 0; k < 2; k++) {
+            int v = k ? cp->e[e].b : cp->e[e].a, o = k ? cp->e[e].a : cp->e[e].b;
+            vstat *s = &vs[v];
+            char a = cp->e[e].assign;
+            if (a == 'B') { s->nb++; continue; }
+            if (a == 'M') s->nm++;
+            if (a == 'V') s->nv++;
+            assert_true(s->deg < 16);
+            double t = atan2(cp->v[o].x[1] - cp->v[v].x[1], cp->v[o].x[0] - cp->v[v].x[0]);
+            s->ang[s->deg++] = t < 0 ? t + 2 * M_PI : t;
+        }
+}
+
+/* Maekawa and Kawasaki at every interior vertex of degree `only` (0: all) */
+static int flat_foldable_vertices(const sf_cpattern *cp, int only)
+{
+    vstat *vs = calloc((size_t)cp->nv, sizeof *vs);
+    assert_non_null(vs);
+    stats(cp, vs);
+    int n = 0;
+    for (int v = 0; v < cp->nv; v++) {
+        vstat *s = &vs[v];
+        if (s->nb || s->deg == 0 || (only && s->deg != only)) continue;
+        n++;
+        if (abs(s->nm - s->nv) != 2)
+            print_error("vertex %d: %d M, %d V\n", v, s->nm, s->nv);
+        assert_int_equal(abs(s->nm - s->nv), 2);
+        qsort(s->ang, (size_t)s->deg, sizeof(double), dcmp);
+        double alt = 0;
+        for (int k = 0; k < s->deg; k += 2) {
+            double a1 = s->ang[(k + 1) % s->deg] - s->ang[k];
+            if (a1 < 0) a1 += 2 * M_PI;
+            alt += a1;
+        }
+        /* coordinates rounded to 12 digits: angles good to ~1e-11 */
+        CHECK_CLOSE(alt, M_PI, 1e-10, "Kawasaki at vertex %d", v);
+    }
+    free(vs);
+    return n;
+}
+
+static double outline_area(const sf_cpattern *cp)
+{
+    int *loop, n;
+    sf_error e;
+    sf_error_clear(&e);
+    assert_int_equal(sf_cp_outline(cp, &loop, &n, NULL, &e), SF_OK);
+    double a = 0;
+    for (int k = 0; k < n; k++) {
+        const double *p = cp->v[loop[k]].x, *q = cp->v[loop[(k + 1) % n]].x;
+        a += p[0] * q[1] - q[0] * p[1];
+    }
+    free(loop);
+    return 0.5 * a;
+}
+
+static int count(const sf_cpattern *cp, char a)
+{
+    int n = 0;
+    for (int e = 0; e < cp->ne; e++) n += cp->e[e].assign == a;
+    return n;
+}
+
+static void test_miura(void **state)
+{
+    (void)state;
+    int cells[][2] = {{1, 1}, {2, 2}, {3, 2}, {1, 4}};
+    double angles[] = {60, 45, 75};
+    for (size_t c = 0; c < 4; c++)
+        for (size_t k = 0; k < 3; k++) {
+            sf_gen_opts o;
+            sf_error e;
+            sf_error_clear(&e);
+            assert_int_equal(sf_gen_defaults("miura", &o, &e), SF_OK);
+            o.m = cells[c][0]; o.n = cells[c][1]; o.angle = angles[k]; o.a = 0.03; o.b = 0.05;
+            sf_cpattern cp;
+            CHECK_OK(sf_generate("miura", &o, &cp, &e), e);
+            CHECK_OK(sf_cp_check(&cp, NULL, &e), e);
+            int M = 2 * o.m, N = 2 * o.n;
+            assert_int_equal(cp.nv, (M + 1) * (N + 1));
+            assert_int_equal(count(&cp, 'B'), 2 * M + 2 * N);
+            assert_int_equal(count(&cp, 'M') + count(&cp, 'V'), (N - 1) * M + (M - 1) * N);
+            assert_int_equal(flat_foldable_vertices(&cp, 0), (M - 1) * (N - 1));
+            /* M x N parallelograms of sides a, b at the angle */
+            /* (coordinates are rounded to 12 digits by the generator) */
+            double A = M * N * o.a * o.b * sin(o.angle * M_PI / 180);
+            CHECK_CLOSE(outline_area(&cp), A, 1e-11 * A, "miura %dx%d area", o.m, o.n);
+            sf_cp_free(&cp);
+        }
+}
+
+static void test_yoshimura(void **state)
+{
+    (void)state;
+    for (int m = 1; m <= 3; m++)
+        for (int n = 1; n <= 3; n++) {
+            sf_gen_opts o;
+            sf_error e;
+            sf_error_clear(&e);
+            assert_int_equal(sf_gen_defaults("yoshimura", &o, &e), SF_OK);
+            o.m = m; o.n = n;
+            sf_cpattern cp;
+            CHECK_OK(sf_generate("yoshimura", &o, &cp, &e), e);
+            CHECK_OK(sf_cp_check(&cp, NULL, &e), e);
+            /* interior vertices: (m - 1) on even rows, m on odd rows */
+            int want = 0;
+            for (int j = 1; j < n; j++) want += j % 2 ? m : m - 1;
+            assert_int_equal(flat_foldable_vertices(&cp, 0), want);
+            assert_int_equal(count(&cp, 'V'), 2 * m * n);   /* two diagonals per half-diamond row cell */
+            CHECK_CLOSE(outline_area(&cp), m * o.a * n * o.b, 1e-15, "yoshimura area");
+            sf_cp_free(&cp);
+        }
+}
+
+static void test_waterbomb(void **state)
+{
+    (void)state;
+    for (int m = 1; m <= 3; m++)
+        for (int n = 1; n <= 3; n++) {
+            sf_gen_opts o;
+            sf_error e;
+            sf_error_clear(&e);
+            assert_int_equal(sf_gen_defaults("waterbomb", &o, &e), SF_OK);
+            o.m = m; o.n = n;
+            sf_cpattern cp;
+            CHECK_OK(sf_generate("waterbomb", &o, &cp, &e), e);
+            CHECK_OK(sf_cp_check(&cp, NULL, &e), e);
+            /* one degree-6 base centre per whole base: m per even row,
+             * m - 1 inside the shifted odd rows */
+            int want = 0;
+            for (int r = 0; r < n; r++) want += r % 2 ? m - 1 : m;
+            assert_int_equal(flat_foldable_vertices(&cp, 6), want);
+            /* diagonals: 4 per whole base, 2 per half base at the sides */
+            int diag = 0;
+            for (int r = 0; r < n; r++) diag += r % 2 ? 4 * (m - 1) + 4 : 4 * m;
+            assert_int_equal(count(&cp, 'V'), diag);
+            CHECK_CLOSE(outline_area(&cp), m * o.a * n * o.b, 1e-15, "waterbomb area");
+            sf_cp_free(&cp);
+        }
+}
+
+/* two folds from one vertex at sector alpha: the setbacks equal margin
+ * times the distances along each fold to where the facing band edges
+ * meet, found here by intersecting the two edge lines */
+static void test_setbacks(void **state)
+{
+    (void)state;
+    double alphas[] = {0.3, 1.0, 2.0, 2.9};
+    double w1 = 0.01, w2 = 0.004;
+    for (size_t k = 0; k < 4; k++) {
+        double al = alphas[k];
+        sf_cpattern cp;
+        sf_cp_init(&cp);
+        int o = sf_cp_add_vertex(&cp, 0, 0, NULL);
+        int a = sf_cp_add_vertex(&cp, 1, 0, NULL);
+        int b = sf_cp_add_vertex(&cp, cos(al), sin(al), NULL);
+        sf_cp_add_edge(&cp, o, a, 'M', NAN);
+        sf_cp_add_edge(&cp, o, b, 'V', NAN);
+        double w[2] = {w1, w2}, sb[2][2];
+        sf_cp_setbacks(&cp, w, NULL, 0, 1.25, 0.0, sb);
+        /* edge line of fold 1 on fold 2's side: y = w1/2; of fold 2 on
+         * fold 1's side: points d (cos al, sin al) + (w2/2)(sin al, -cos al) */
+        double d2 = (w1 / 2 + (w2 / 2) * cos(al)) / sin(al);
+        double px = d2 * cos(al) + (w2 / 2) * sin(al);
+        double py = d2 * sin(al) - (w2 / 2) * cos(al);
+        CHECK_CLOSE(py, w1 / 2, 1e-15, "intersection on fold 1's edge line");
+        /* (past a right angle the edge lines meet behind the vertex: 0) */
+        CHECK_CLOSE(sb[0][0], fmax(0, 1.25 * px), 1e-15, "setback of fold 1 at alpha %g", al);
+        CHECK_CLOSE(sb[1][0], fmax(0, 1.25 * d2), 1e-15, "setback of fold 2 at alpha %g", al);
+        sf_cp_free(&cp);
+    }
+}
+
+static void test_bad_parameters(void **state)
+{
+    (void)state;
+    sf_gen_opts o;
+    sf_cpattern cp;
+    sf_error e;
+    sf_error_clear(&e);
+    assert_int_equal(sf_gen_defaults("miuraa", &o, &e), SF_EINPUT);
+    CHECK_CONTAINS(e.msg, "unknown pattern 'miuraa' (patterns: miura, yoshimura, waterbomb)");
+    sf_error_clear(&e);
+    assert_int_equal(sf_gen_defaults("miura", &o, &e), SF_OK);
+    o.angle = 90;
+    assert_int_equal(sf_generate("miura", &o, &cp, &e), SF_EINPUT);
+    CHECK_CONTAINS(e.msg, "sector angle 90 degrees: must be in (0, 90)");
+    sf_error_clear(&e);
+    o.angle = 60; o.m = 0;
+    assert_int_equal(sf_generate("miura", &o, &cp, &e), SF_EINPUT);
+    CHECK_CONTAINS(e.msg, "cells 0x2");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_miura),
+        cmocka_unit_test(test_yoshimura),
+        cmocka_unit_test(test_waterbomb),
+        cmocka_unit_test(test_setbacks),
+        cmocka_unit_test(test_bad_parameters),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

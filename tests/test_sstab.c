@@ -1,0 +1,265 @@
+/* test_sstab.c - the MUMPS wrapper (ldlt.h) and the sparse stability entry
+ * point (sstab.h) against closed forms:
+ *  - the chain matrix T = tridiag(-1, 2, -1) - s I (n x n) has the
+ *    eigenvalues 2 - 2 cos(j pi / (n + 1)) - s: MUMPS's negative pivots,
+ *    determinant sign and log|det| and a solve are checked against them;
+ *  - a KKT matrix with a repeated constraint row has one null pivot;
+ *  - pinning node p of the chain (C = e_p, plus a copy 2 e_p and a zero
+ *    row: rank 1) leaves two free chains of lengths p and n - 1 - p, whose
+ *    eigenvalues are known: the Morse index and the smallest eigenvalues
+ *    of sf_sstab_eval must be those, stable and unstable;
+ *  - a tiny ARPACK iteration cap: the first attempt fails, a retry with a
+ *    larger subspace converges to the same eigenvalues and says so;
+ *  - every attempt failing: stability unknown at a stable point (but the
+ *    Morse index known), unstable by the inertia at an unstable one, and
+ *    sf_sstab_eval still returns SF_OK.
+ * Runs in well under a second. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "ldlt.h"
+#include "sf_test.h"
+#include "sstab.h"
+
+#define L1 18
+#define L2 40
+#define NCH (L1 + 1 + L2) /* pinned node: index L1 */
+
+static double chain_eig(int len, int j, double s)
+{
+    return 2.0 - 2.0 * cos(j * M_PI / (len + 1)) - s;
+}
+
+static int cmp(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* the lower triangle of the chain matrix as CSC */
+static void chain_csc(int n, double s, int *cp, int *ri, double *v)
+{
+    int t = 0;
+    for (int j = 0; j < n; j++) {
+        cp[j] = t;
+        ri[t] = j;
+        v[t++] = 2.0 - s;
+        if (j + 1 < n) {
+            ri[t] = j + 1;
+            v[t++] = -1.0;
+        }
+    }
+    cp[n] = t;
+}
+
+static void test_ldlt_chain(void **state)
+{
+    (void)state;
+    int n = 50;
+    double s = 0.3;
+    int ri[200], cj[200];
+    double v[200];
+    long t = 0;
+    for (int j = 0; j < n; j++) {
+        ri[t] = j;
+        cj[t] = j;
+        v[t++] = 2.0 - s;
+        if (j + 1 < n) {
+            ri[t] = j + 1;
+            cj[t] = j;
+            v[t++] = -1.0;
+        }
+    }
+    int neg = 0;
+    double l2 = 0.0;
+    for (int j = 1; j <= n; j++) {
+        double e = chain_eig(n, j, s);
+        neg += e < 0;
+        l2 += log2(fabs(e));
+    }
+    assert_true(neg > 0);
+    sf_ldlt *f;
+    sf_error err;
+    sf_error_clear(&err);
+    assert_int_equal(sf_ldlt_create(&f, 0, &err), SF_OK);
+    assert_int_equal(sf_ldlt_factor(f, n, t, ri, cj, v, &err), SF_OK);
+    sf_ldlt_info in;
+    sf_ldlt_get_info(f, &in);
+    assert_int_equal(in.neg, neg);
+    assert_int_equal(in.nnull, 0);
+    assert_int_equal(in.det_sign, neg % 2 ? -1 : 1);
+    CHECK_CLOSE(in.log2_det, l2, 1e-10 * fabs(l2) + 1e-10, "log2 |det|");
+    /* solve T x = T 1 */
+    double b[50];
+    for (int i = 0; i < n; i++) b[i] = (2.0 - s) - (i > 0) - (i + 1 < n);
+    assert_int_equal(sf_ldlt_solve(f, b, &err), SF_OK);
+    for (int i = 0; i < n; i++) CHECK_CLOSE(b[i], 1.0, 1e-12, "x[%d]", i);
+    /* same pattern, other values: no second analysis */
+    for (long k = 0; k < t; k++)
+        if (ri[k] == cj[k]) v[k] = 2.0 + 1.0;
+    assert_int_equal(sf_ldlt_factor(f, n, t, ri, cj, v, &err), SF_OK);
+    sf_ldlt_get_info(f, &in);
+    assert_int_equal(in.neg, 0);
+    assert_int_equal(in.analyses, 1);
+    assert_int_equal(in.factorisations, 2);
+    sf_ldlt_free(f);
+}
+
+/* [I_3, B^T; B, 0] with B = [e1; e1]: one null pivot, 1 negative (rank 1) */
+static void test_ldlt_null_pivot(void **state)
+{
+    (void)state;
+    int ri[] = {0, 1, 2, 3, 4}, cj[] = {0, 1, 2, 0, 0};
+    double v[] = {1, 1, 1, 1, 1};
+    sf_ldlt *f;
+    sf_error err;
+    sf_error_clear(&err);
+    assert_int_equal(sf_ldlt_create(&f, 0, &err), SF_OK);
+    assert_int_equal(sf_ldlt_factor(f, 5, 5, ri, cj, v, &err), SF_OK);
+    sf_ldlt_info in;
+    sf_ldlt_get_info(f, &in);
+    assert_int_equal(in.nnull, 1);
+    assert_int_equal(in.neg, 1);
+    assert_int_equal(in.det_sign, 0);
+    sf_ldlt_free(f);
+}
+
+typedef struct pinned {
+    int cp[NCH + 1], ri[3 * NCH], ccp[NCH + 1], cri[4];
+    double v[3 * NCH], cv[4];
+    sf_csc H, C;
+    double eig[NCH];
+    int morse;
+} pinned;
+
+/* chain - s I with node L1 pinned by three rows: e_p, a zero row, 2 e_p */
+static void make_pinned(pinned *P, double s)
+{
+    chain_csc(NCH, s, P->cp, P->ri, P->v);
+    for (int j = 0; j <= NCH; j++) P->ccp[j] = j <= L1 ? 0 : 2;
+    P->cri[0] = 0;
+    P->cri[1] = 2;
+    P->cv[0] = 1.0;
+    P->cv[1] = 2.0;
+    P->H = (sf_csc){NCH, NCH, P->cp, P->ri, P->v};
+    P->C = (sf_csc){3, NCH, P->ccp, P->cri, P->cv};
+    int k = 0;
+    for (int j = 1; j <= L1; j++) P->eig[k++] = chain_eig(L1, j, s);
+    for (int j = 1; j <= L2; j++) P->eig[k++] = chain_eig(L2, j, s);
+    qsort(P->eig, (size_t)k, sizeof(double), cmp);
+    P->morse = 0;
+    for (int i = 0; i < k; i++) P->morse += P->eig[i] < 0;
+}
+
+static void check_eigs(const sf_sstab_result *R, const pinned *P, int nev)
+{
+    assert_int_equal(R->neig, nev);
+    for (int i = 0; i < nev; i++)
+        CHECK_CLOSE(R->eig[i], P->eig[i], 1e-10 * fmax(1.0, fabs(P->eig[i])), "eig %d", i + 1);
+}
+
+static void test_sstab_closed_form(void **state)
+{
+    (void)state;
+    const double shifts[] = {0.0, 0.05, 0.3};
+    for (int c = 0; c < 3; c++) {
+        pinned P;
+        make_pinned(&P, shifts[c]);
+        sf_sstab *st;
+        sf_error err;
+        sf_error_clear(&err);
+        sf_sstab_opts o = {.nev = 5};
+        assert_int_equal(sf_sstab_create(&st, NCH, 3, &o, &err), SF_OK);
+        assert_int_equal(sf_sstab_eval(st, &P.H, &P.C, &err), SF_OK);
+        const sf_sstab_result *R = sf_sstab_get(st);
+        assert_int_equal(R->status, SF_SSTAB_OK);
+        assert_int_equal(R->rank, 1);
+        assert_int_equal(R->dim, NCH - 1);
+        assert_int_equal(R->morse, P.morse);
+        assert_int_equal(R->stable, P.morse == 0);
+        check_eigs(R, &P, 5);
+        print_message("# pinned chain, s = %g: Morse index %d, eig1 %.6g, %d solves\n", shifts[c],
+                      R->morse, R->eig[0], R->nop);
+        sf_sstab_free(st);
+    }
+}
+
+static void test_sstab_retry(void **state)
+{
+    (void)state;
+    pinned P;
+    make_pinned(&P, 0.05);
+    sf_sstab *st;
+    sf_error err;
+    sf_error_clear(&err);
+    sf_sstab_opts o = {.nev = 4, .maxiter = 1};
+    assert_int_equal(sf_sstab_create(&st, NCH, 3, &o, &err), SF_OK);
+    assert_int_equal(sf_sstab_eval(st, &P.H, &P.C, &err), SF_OK);
+    const sf_sstab_result *R = sf_sstab_get(st);
+    print_message("# retry: status %d after %d attempts: %s\n", R->status, R->attempts, R->reason);
+    assert_int_equal(R->status, SF_SSTAB_RETRIED);
+    assert_true(R->attempts > 1);
+    assert_non_null(strstr(R->reason, "attempt 1"));
+    assert_int_equal(R->morse, P.morse);
+    check_eigs(R, &P, 4);
+    sf_sstab_free(st);
+}
+
+static void test_sstab_unknown(void **state)
+{
+    (void)state;
+    const double shifts[] = {0.0, 0.05};
+    for (int c = 0; c < 2; c++) {
+        pinned P;
+        make_pinned(&P, shifts[c]);
+        sf_sstab *st;
+        sf_error err;
+        sf_error_clear(&err);
+        sf_sstab_opts o = {.nev = 4, .maxiter = 1, .attempts = 1};
+        assert_int_equal(sf_sstab_create(&st, NCH, 3, &o, &err), SF_OK);
+        assert_int_equal(sf_sstab_eval(st, &P.H, &P.C, &err), SF_OK);
+        const sf_sstab_result *R = sf_sstab_get(st);
+        print_message("# all attempts failing, s = %g: stable %d, morse %d: %s\n", shifts[c],
+                      R->stable, R->morse, R->reason);
+        assert_int_equal(R->status, SF_SSTAB_UNKNOWN);
+        assert_int_equal(R->neig, 0);
+        assert_non_null(strstr(R->reason, "ARPACK dsaupd info 1"));
+        assert_int_equal(R->morse, P.morse);
+        assert_int_equal(R->stable, P.morse > 0 ? 0 : -1);
+        sf_sstab_free(st);
+    }
+}
+
+/* bad input is an error, not an unknown stability */
+static void test_sstab_bad_input(void **state)
+{
+    (void)state;
+    pinned P;
+    make_pinned(&P, 0.0);
+    P.v[3] = NAN;
+    sf_sstab *st;
+    sf_error err;
+    sf_error_clear(&err);
+    assert_int_equal(sf_sstab_create(&st, NCH, 3, NULL, &err), SF_OK);
+    assert_int_equal(sf_sstab_eval(st, &P.H, &P.C, &err), SF_ENUMERIC);
+    assert_non_null(strstr(err.msg, "not finite"));
+    sf_sstab_free(st);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_ldlt_chain),
+        cmocka_unit_test(test_ldlt_null_pivot),
+        cmocka_unit_test(test_sstab_closed_form),
+        cmocka_unit_test(test_sstab_retry),
+        cmocka_unit_test(test_sstab_unknown),
+        cmocka_unit_test(test_sstab_bad_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
