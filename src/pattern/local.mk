@@ -9,4 +9,5 @@ src_libsmoothfold_a_SOURCES += src/pattern/pattern.h \
 	src/pattern/study_access.c \
 	src/pattern/topology.c src/pattern/topology.h src/pattern/assignment.c \
 	src/pattern/cpattern.c src/pattern/cpattern.h src/pattern/cp_study.c \
+	src/pattern/cp_from_study.c src/pattern/fold_read.c src/pattern/foldread.h \
 	src/pattern/generators.c src/pattern/generators.h
