@@ -30,3 +30,4 @@ include tests/accuracy.mk
 include tests/cli.mk
 include tests/bifurcation.mk
 include tests/pattern.mk
+include tests/boundary.mk

@@ -11,4 +11,5 @@ src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibri
 	src/analysis/ldlt.c src/analysis/ldlt.h \
 	src/analysis/sstab.c src/analysis/sstab.h \
 	src/analysis/bifurcation.c src/analysis/bifurcation.h \
-	src/analysis/dynamics.c src/analysis/dynamics.h
+	src/analysis/dynamics.c src/analysis/dynamics.h \
+	src/analysis/boundary.c src/analysis/boundary.h

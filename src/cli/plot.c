@@ -185,8 +185,16 @@ int sf_plot_trajectory(const char *dir, sf_error *err)
 
 int sf_cmd_plot(const char *dir, const char *folds, sf_error *err)
 {
-    char branch[1200], traj[1200];
+    char branch[1200], traj[1200], bnd[1200];
     struct stat st;
+    snprintf(bnd, sizeof bnd, "%s/boundary.tsv", dir);
+    if (stat(bnd, &st) == 0) {
+        /* a two-parameter stability diagram (analysis.type = "boundary") */
+        const char *scripts[] = {"boundary.gp"};
+        if (run_scripts(dir, scripts, 1, NULL, err)) return err->code;
+        printf("wrote %s/boundary.png, boundary.pdf\n", dir);
+        return SF_OK;
+    }
     snprintf(branch, sizeof branch, "%s/branch.tsv", dir);
     snprintf(traj, sizeof traj, "%s/trajectory.tsv", dir);
     int have_branch = stat(branch, &st) == 0, have_traj = stat(traj, &st) == 0;

@@ -18,6 +18,7 @@
 #include "cont.h"
 #include "equilibrium.h"
 #include "outbuf.h"
+#include "run_boundary.h"
 #include "run_dynamics.h"
 #include "flatstart.h"
 #include "mobility.h"
@@ -585,6 +586,11 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
         int drc = sf_run_dynamics(&sc, o, err);
         sf_scene_close(&sc);
         return drc;
+    }
+    if (strcmp(sc.study.analysis_type, "boundary") == 0) {
+        int brc = sf_run_boundary(&sc, o, err);   /* run_boundary.c */
+        sf_scene_close(&sc);
+        return brc;
     }
     run_ctx r;
     memset(&r, 0, sizeof r);

@@ -19,7 +19,8 @@ static const char *const own_top[] = {
     MARKER, "branch.tsv", "special.tsv", "stats.csv", "study.cfg", "reactions.tsv",
     "trajectory.tsv", "compare*.tsv", "convergence.tsv", "shapes.pvd", "shapes_branch*.pvd",
     "stability.png", "stability.pdf", "eigenvalues.png", "eigenvalues.pdf", "angles.png",
-    "angles.pdf", "trajectory.png", "trajectory.pdf", "*.tmp",
+    "angles.pdf", "trajectory.png", "trajectory.pdf", "boundary.tsv", "boundary.png",
+    "boundary.pdf", "*.tmp",
 };
 /* ... and in DIR/shapes/ */
 static const char *const own_shapes[] = {"shape_*.vtp", "*.tmp"};
@@ -85,9 +86,9 @@ static int scan(const char *dir, int doit, int *own, int *other, char *first_oth
  * a table whose first line is smoothfold's header. */
 static int is_ours(const char *dir)
 {
-    const char *probe[] = {MARKER, "branch.tsv", "trajectory.tsv"};
+    const char *probe[] = {MARKER, "branch.tsv", "trajectory.tsv", "boundary.tsv"};
     char path[1100], line[64];
-    for (int i = 0; i < 3; i++) {
+    for (size_t i = 0; i < sizeof probe / sizeof *probe; i++) {
         snprintf(path, sizeof path, "%s/%s", dir, probe[i]);
         FILE *f = fopen(path, "r");
         if (!f) continue;
