@@ -31,3 +31,6 @@ include tests/cli.mk
 include tests/bifurcation.mk
 include tests/pattern.mk
 include tests/boundary.mk
+# sweeps, serially and under mpirun (src/analysis/sweep.h, docs/sweep.md)
+TESTS += tests/test_sweep.sh
+EXTRA_DIST += tests/test_sweep.sh
