@@ -23,6 +23,7 @@ EXTRA_DIST += tests/test_bad_input.sh
 TESTS += tests/test_vtk.sh
 EXTRA_DIST += tests/test_vtk.sh
 include tests/equilibrium.mk
+include tests/poses.mk
 EXTRA_DIST += tests/sf_test.h
 include tests/dynamics.mk
 include tests/paths.mk

@@ -2,6 +2,7 @@
 # the flat start, stability, bifurcation bookkeeping, mobility, reactions,
 # dynamics, comparison with reference data.
 src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibrium.h \
+	src/analysis/equilibrium_poses.c src/analysis/equilibrium_poses.h \
 	src/analysis/flatstart.c src/analysis/flatstart.h \
 	src/analysis/reactions.c src/analysis/reactions.h \
 	src/analysis/mobility.c src/analysis/mobility.h \
