@@ -31,3 +31,4 @@ include tests/cli.mk
 include tests/bifurcation.mk
 include tests/pattern.mk
 include tests/boundary.mk
+include tests/multibp.mk

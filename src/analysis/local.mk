@@ -12,4 +12,5 @@ src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibri
 	src/analysis/sstab.c src/analysis/sstab.h \
 	src/analysis/bifurcation.c src/analysis/bifurcation.h \
 	src/analysis/dynamics.c src/analysis/dynamics.h \
-	src/analysis/boundary.c src/analysis/boundary.h
+	src/analysis/boundary.c src/analysis/boundary.h \
+	src/analysis/multibp.c src/analysis/multibp.h
