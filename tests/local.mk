@@ -23,6 +23,7 @@ EXTRA_DIST += tests/test_bad_input.sh
 TESTS += tests/test_vtk.sh
 EXTRA_DIST += tests/test_vtk.sh
 include tests/equilibrium.mk
+include tests/poses.mk
 EXTRA_DIST += tests/sf_test.h
 include tests/dynamics.mk
 include tests/paths.mk
@@ -32,3 +33,6 @@ include tests/bifurcation.mk
 include tests/pattern.mk
 include tests/boundary.mk
 include tests/multibp.mk
+# sweeps, serially and under mpirun (src/analysis/sweep.h, docs/sweep.md)
+TESTS += tests/test_sweep.sh
+EXTRA_DIST += tests/test_sweep.sh

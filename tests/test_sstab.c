@@ -8,6 +8,7 @@
  *    row: rank 1) leaves two free chains of lengths p and n - 1 - p, whose
  *    eigenvalues are known: the Morse index and the smallest eigenvalues
  *    of sf_sstab_eval must be those, stable and unstable;
+ *  - a tangent space of dimension 5 in R^250: all its eigenvalues;
  *  - a tiny ARPACK iteration cap: the first attempt fails, a retry with a
  *    larger subspace converges to the same eigenvalues and says so;
  *  - every attempt failing: stability unknown at a stable point (but the
@@ -235,6 +236,56 @@ static void test_sstab_unknown(void **state)
     }
 }
 
+/* A tangent space smaller than ARPACK's usual subspace: the chain of 250
+ * nodes with all but a free pair {10, 11} and a free triple {100, 101,
+ * 102} pinned.  H_c is block diagonal: [2 -1; -1 2] (1, 3) and the
+ * 3-chain (2 - sqrt 2, 2, 2 + sqrt 2), minus s.  (The ARPACK path before
+ * MUMPS asked here for nev = dim - 1 eigenvalues with ncv = dim, the
+ * setting of the failure in issue 12: "dsaupd info 1, 0 of 3 converged".) */
+static void test_sstab_small_tangent(void **state)
+{
+    (void)state;
+    enum { NB = 250 };
+    static int cp[NB + 1], ri[2 * NB], ccp[NB + 1], cri[NB];
+    static double v[2 * NB], cv[NB];
+    const double shifts[] = {0.0, 1.5};
+    for (int c = 0; c < 2; c++) {
+        double s = shifts[c];
+        chain_csc(NB, s, cp, ri, v);
+        int m = 0;
+        for (int j = 0; j < NB; j++) {
+            ccp[j] = m;
+            int freen = j == 10 || j == 11 || (j >= 100 && j <= 102);
+            if (!freen) {
+                cri[m] = m;
+                cv[m++] = 1.0;
+            }
+        }
+        ccp[NB] = m;
+        assert_int_equal(m, NB - 5);
+        sf_csc H = {NB, NB, cp, ri, v}, C = {m, NB, ccp, cri, cv};
+        double want[5] = {1 - s, 3 - s, 2 - sqrt(2.0) - s, 2 - s, 2 + sqrt(2.0) - s};
+        qsort(want, 5, sizeof(double), cmp);
+        int morse = 0;
+        for (int i = 0; i < 5; i++) morse += want[i] < 0;
+        sf_sstab *st;
+        sf_error err;
+        sf_error_clear(&err);
+        sf_sstab_opts o = {.nev = 4};
+        assert_int_equal(sf_sstab_create(&st, NB, m, &o, &err), SF_OK);
+        assert_int_equal(sf_sstab_eval(st, &H, &C, &err), SF_OK);
+        const sf_sstab_result *R = sf_sstab_get(st);
+        print_message("# small tangent space, s = %g: status %d, dim %d, Morse index %d, %s\n", s,
+                      R->status, R->dim, R->morse, R->reason);
+        assert_int_equal(R->dim, 5);
+        assert_int_equal(R->morse, morse);
+        assert_int_equal(R->neig, 4);
+        for (int i = 0; i < 4; i++) CHECK_CLOSE(R->eig[i], want[i], 1e-10, "eig %d", i + 1);
+        assert_int_equal(R->stable, morse == 0);
+        sf_sstab_free(st);
+    }
+}
+
 /* bad input is an error, not an unknown stability */
 static void test_sstab_bad_input(void **state)
 {
@@ -259,6 +310,7 @@ int main(void)
         cmocka_unit_test(test_sstab_closed_form),
         cmocka_unit_test(test_sstab_retry),
         cmocka_unit_test(test_sstab_unknown),
+        cmocka_unit_test(test_sstab_small_tangent),
         cmocka_unit_test(test_sstab_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -82,7 +82,7 @@ static int same_pattern(const sf_ldlt *f, int n, long nnz, const int *row, const
 static int mumps_fail(const sf_ldlt *f, const char *what, sf_error *err)
 {
     int e1 = f->id.INFOG(1), e2 = f->id.INFOG(2);
-    if (e1 == -9 || e1 == -13 || e1 == -8)
+    if (e1 == -13)
         return sf_fail(err, SF_ENOMEM, "MUMPS %s: out of memory (INFOG(1) = %d, INFOG(2) = %d)",
                        what, e1, e2);
     return sf_fail(err, SF_ENUMERIC, "MUMPS %s failed (INFOG(1) = %d, INFOG(2) = %d)", what, e1,
@@ -141,12 +141,14 @@ int sf_ldlt_factor(sf_ldlt *f, int n, long nnz, const int *row, const int *col,
     id->CNTL(3) = f->null_tol;  /* its threshold, relative to the matrix norm */
     id->ICNTL(33) = 1;          /* determinant */
     f->factored = 0;
-    for (int attempt = 0; attempt < 3; attempt++) {
+    for (int attempt = 0; attempt < 8; attempt++) {
         id->job = 2;
         dmumps_c(id);
-        /* -8, -9: workspace estimate too small; more relaxation and again */
+        /* -8, -9: the workspace estimated by the analysis is too small
+         * (delayed pivots of the zero block); more relaxation and again */
         if (id->INFOG(1) == -8 || id->INFOG(1) == -9) {
             id->ICNTL(14) = (id->ICNTL(14) > 0 ? id->ICNTL(14) : 20) * 2;
+            f->info.relaxations++;
             continue;
         }
         break;

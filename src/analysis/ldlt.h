@@ -49,6 +49,7 @@ typedef struct sf_ldlt_info {
     double log2_det;  /* log2 |det A| over the non-null pivots */
     int analyses;     /* symbolic analyses so far */
     int factorisations;
+    int relaxations;  /* factorisations repeated with more workspace (ICNTL(14)) */
 } sf_ldlt_info;
 
 void sf_ldlt_get_info(const sf_ldlt *f, sf_ldlt_info *info);

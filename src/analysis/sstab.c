@@ -8,11 +8,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <SuiteSparseQR_C.h>
 #include <arpack/arpack.h>
 
 #include "ldlt.h"
 
 #define ZERO_ROW 1e-13     /* rows shorter than this times the longest: zero */
+#define RANK_TOL 1e-9      /* SPQR: (unit) columns of C^T left shorter than this are dependent */
 #define NULL_TOL 1e-12     /* MUMPS null pivot threshold (CNTL(3)) */
 #define SHIFT_REL 1e-6     /* sigma0 = -SHIFT_REL * max |diag HL| */
 #define EXTRA 6            /* eigenvalues computed beyond those wanted */
@@ -29,7 +31,10 @@ struct sf_sstab {
     /* rows of C: scale (0 = dropped), new index */
     double *rs;
     int *rnew;
-    int mk;                /* rows kept */
+    int mk;                /* rows kept: independent rows of C */
+    int mnz;               /* nonzero rows */
+    int spqr_failed;       /* the last rank decision failed */
+    cholmod_common cc;
     double *b;             /* n + m */
     double scale, gersh;
     sf_sstab_result res;
@@ -74,6 +79,9 @@ int sf_sstab_create(sf_sstab **out, int n, int m, const sf_sstab_opts *opts, sf_
         sf_sstab_free(s);
         return rc;
     }
+    cholmod_l_start(&s->cc);
+    s->cc.print = 0;
+    s->cc.error_handler = NULL;
     *out = s;
     return SF_OK;
 }
@@ -81,6 +89,7 @@ int sf_sstab_create(sf_sstab **out, int n, int m, const sf_sstab_opts *opts, sf_
 void sf_sstab_free(sf_sstab *s)
 {
     if (!s) return;
+    if (s->f) cholmod_l_finish(&s->cc);
     sf_ldlt_free(s->f);
     free(s->ti);
     free(s->tj);
@@ -117,6 +126,83 @@ static int check_csc(const sf_csc *A, int nrow, int ncol, const char *name, sf_e
     return SF_OK;
 }
 
+/* Rank and independent rows of the scaled nonzero rows of C: sparse QR
+ * with Heath's rank detection (SuiteSparseQR) of C^T, whose columns are
+ * the rows; the first rank columns of its permutation E are independent
+ * (R(0:r, 0:r) upper triangular with nonzero diagonal, checked).  On
+ * return rnew[i] is the index of row i among the independent rows, or -1,
+ * and mk their number; spqr_failed is set when SPQR failed. */
+static int independent_rows(sf_sstab *s, const sf_csc *C, sf_error *err)
+{
+    int n = s->n, m = C ? s->m : 0, mnz = s->mnz;
+    s->mk = 0;
+    s->spqr_failed = 0;
+    if (mnz == 0) return SF_OK;
+    long nnz = C->colptr[n];
+    cholmod_sparse *A = cholmod_l_allocate_sparse((size_t)n, (size_t)mnz, (size_t)nnz, 1, 1, 0,
+                                                  CHOLMOD_REAL, &s->cc);
+    if (!A) return sf_fail(err, SF_ENOMEM, "out of memory (CHOLMOD)");
+    SuiteSparse_long *Ap = A->p, *Ai = A->i;
+    double *Ax = A->x;
+    /* column c of A = row of C numbered c among the nonzero rows */
+    for (int c = 0; c <= mnz; c++) Ap[c] = 0;
+    for (long k = 0; k < nnz; k++) {
+        int c = s->rnew[C->rowind[k]];
+        if (c >= 0) Ap[c + 1]++;
+    }
+    for (int c = 0; c < mnz; c++) Ap[c + 1] += Ap[c];
+    SuiteSparse_long *next = malloc(sizeof(SuiteSparse_long) * (size_t)(mnz + 1));
+    if (!next) {
+        cholmod_l_free_sparse(&A, &s->cc);
+        return sf_fail(err, SF_ENOMEM, "out of memory");
+    }
+    memcpy(next, Ap, sizeof(SuiteSparse_long) * (size_t)mnz);
+    for (int j = 0; j < n; j++) /* rows in increasing j: sorted columns */
+        for (int k = C->colptr[j]; k < C->colptr[j + 1]; k++) {
+            int i = C->rowind[k], c = s->rnew[i];
+            if (c < 0) continue;
+            Ai[next[c]] = j;
+            Ax[next[c]++] = C->val[k] * s->rs[i];
+        }
+    free(next);
+    cholmod_sparse *R = NULL;
+    SuiteSparse_long *E = NULL;
+    SuiteSparse_long r = SuiteSparseQR_C_QR(SPQR_ORDERING_DEFAULT, RANK_TOL, 0, A, NULL, &R, &E,
+                                            &s->cc);
+    cholmod_l_free_sparse(&A, &s->cc);
+    int ok = r >= 0 && R;
+    /* check: R(k, k) is the last entry of column k, nonzero, for k < r */
+    for (SuiteSparse_long k = 0; ok && k < r; k++) {
+        SuiteSparse_long *Rp = R->p, *Ri = R->i;
+        double *Rx = R->x;
+        SuiteSparse_long last = Rp[k + 1] - 1;
+        if (last < Rp[k] || Ri[last] != k || !(fabs(Rx[last]) > RANK_TOL)) ok = 0;
+    }
+    int *indep = NULL;
+    if (ok) indep = calloc((size_t)mnz, sizeof(int));
+    if (ok && indep) {
+        for (SuiteSparse_long k = 0; k < r; k++) indep[E ? E[k] : k] = 1;
+        int t = 0;
+        for (int i = 0; i < m; i++) {
+            int c = s->rnew[i];
+            if (c < 0) continue;
+            s->rnew[i] = indep[c] ? t++ : -1;
+            if (s->rnew[i] < 0) s->rs[i] = 0.0;
+        }
+        s->mk = t;
+    }
+    if (R) cholmod_l_free_sparse(&R, &s->cc);
+    if (E) cholmod_l_free(mnz, sizeof(SuiteSparse_long), E, &s->cc);
+    if (ok && !indep) return sf_fail(err, SF_ENOMEM, "out of memory");
+    free(indep);
+    if (!ok) {
+        if (s->cc.status == CHOLMOD_OUT_OF_MEMORY)
+            return sf_fail(err, SF_ENOMEM, "out of memory (SuiteSparseQR)");
+        s->spqr_failed = 1;
+    }
+    return SF_OK;
+}
+
 /* Triplets of K(0) = [HL, Cs^T; Cs, 0] (lower triangle, scaled kept rows
  * of C), then n diagonal triplets that carry -sigma.  Also the scale of
  * HL and a Gershgorin lower bound of its spectrum. */
@@ -130,12 +216,14 @@ static int assemble(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *er
             s->rs[C->rowind[k]] += C->val[k] * C->val[k];
     double big = 0.0;
     for (int i = 0; i < m; i++) big = fmax(big, s->rs[i] = sqrt(s->rs[i]));
-    s->mk = 0;
+    s->mnz = 0;
     for (int i = 0; i < m; i++) {
         int keep = s->rs[i] > ZERO_ROW * big && s->rs[i] > 0.0;
-        s->rnew[i] = keep ? s->mk++ : -1;
+        s->rnew[i] = keep ? s->mnz++ : -1;
         s->rs[i] = keep ? 1.0 / s->rs[i] : 0.0;
     }
+    int rc = independent_rows(s, C, err);
+    if (rc) return rc;
     long need = (long)HL->colptr[n] + (m > 0 ? (long)C->colptr[n] : 0) + n;
     if (need > s->cap) {
         int *ti = realloc(s->ti, sizeof(int) * (size_t)need);
@@ -224,11 +312,25 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* One ARPACK run (the current factors, shift sigma): *conv = eigenvalues
- * converged; returns the dsaupd/dseupd info (0 = success) or, below
- * -1000, a MUMPS solve failure. */
+/* y = P x, P = I - Y Y^T (Y: n x nY, orthonormal columns) */
+static void deflate(int n, const double *Y, int nY, double *y)
+{
+    for (int c = 0; c < nY; c++) {
+        const double *yc = Y + (size_t)c * n;
+        double d = 0.0;
+        for (int i = 0; i < n; i++) d += yc[i] * y[i];
+        for (int i = 0; i < n; i++) y[i] -= d * yc[i];
+    }
+}
+
+/* One ARPACK run on P Op P (the current factors, shift sigma; P deflates
+ * the eigenvectors Y already found): *conv = eigenvalues converged;
+ * eigenvalues of H_c in eig[nev], eigenvectors in Z (n x nev).  Returns
+ * the dsaupd info, 10000 + the dseupd info, or below -1000 a MUMPS solve
+ * failure / lack of memory (err says which). */
 static int arpack_run(sf_sstab *s, double sigma, int nev, int ncv, unsigned long seed,
-                      double *eig, int *conv, int *iters, sf_error *err)
+                      const double *Y, int nY, double *eig, double *Z, int *conv, int *iters,
+                      sf_error *err)
 {
     int n = s->n;
     size_t lworkl = (size_t)ncv * (ncv + 8);
@@ -251,6 +353,7 @@ static int arpack_run(sf_sstab *s, double sigma, int nev, int ncv, unsigned long
     }
     int info = -1001;
     if (apply_op(s, workd, resid, err)) goto out;
+    deflate(n, Y, nY, resid);
     a_int ido = 0, ainfo = 1, iparam[11] = {0}, ipntr[14] = {0};
     iparam[0] = 1;
     iparam[2] = s->o.maxiter;
@@ -259,15 +362,17 @@ static int arpack_run(sf_sstab *s, double sigma, int nev, int ncv, unsigned long
         dsaupd_c(&ido, "I", n, "LM", nev, s->o.tol, resid, ncv, V, n, iparam, ipntr, workd, workl,
                  (a_int)lworkl, &ainfo);
         if (ido != -1 && ido != 1) break;
-        if (apply_op(s, workd + ipntr[0] - 1, workd + ipntr[1] - 1, err)) goto out;
+        double *xin = workd + ipntr[0] - 1, *yout = workd + ipntr[1] - 1;
+        deflate(n, Y, nY, xin);
+        if (apply_op(s, xin, yout, err)) goto out;
+        deflate(n, Y, nY, yout);
         s->res.nop++;
     }
     *conv = (int)iparam[4];
     *iters = (int)iparam[2];
     info = (int)ainfo;
     if (ainfo != 0) goto out;
-    double dz = 0;
-    dseupd_c(0, "A", sel, eig, &dz, n, sigma, "I", n, "LM", nev, s->o.tol, resid, ncv, V, n, iparam,
+    dseupd_c(1, "A", sel, eig, Z, n, sigma, "I", n, "LM", nev, s->o.tol, resid, ncv, V, n, iparam,
              ipntr, workd, workl, (a_int)lworkl, &ainfo);
     info = ainfo == 0 ? 0 : 10000 + (int)ainfo;
     if (ainfo == 0)
@@ -312,10 +417,124 @@ static void attempt_plan(const sf_sstab *s, int a, int morse, double sigma0, int
 {
     int base = 2 * nev + 1 > 20 ? 2 * nev + 1 : 20;
     int c = base << (a < 3 ? a : 3);
-    *ncv = c > dim ? dim : c;
+    if (c > dim) c = dim;     /* the operator's rank (Krylov space beyond: zeros) */
+    if (c < nev + 1) c = nev + 1;
+    *ncv = c > s->n ? s->n : c;
     double below = fmin(s->gersh, sigma0) - 1e-3 * s->scale;
     if (morse == 0) *sigma = a < 2 ? sigma0 : sigma0 - 1e-2 * (double)(a - 1) * s->scale;
     else *sigma = a < 2 ? below : below - 0.5 * (double)(a - 1) * s->scale;
+}
+
+typedef struct found {
+    int nf, cap;
+    double *val;   /* [cap] eigenvalues of H_c, in the order found */
+    double *Y;     /* n x cap eigenvectors */
+    double *sorted;
+} found;
+
+/* The ARPACK attempts of sf_sstab_eval (shift plan, deflation of what was
+ * found when the Sturm count shows missed copies, reasons).  Sets *done
+ * when the eigenvalues are complete; R->eig, neig, morse, attempts. */
+static int eigen_attempts(sf_sstab *s, double sigma0, int morse0, int *done, sf_error *err)
+{
+    sf_sstab_result *R = &s->res;
+    int n = s->n, want = s->o.nev + EXTRA < R->dim ? s->o.nev + EXTRA : R->dim;
+    *done = 0;
+    if (want < 1) {
+        add_reason(R, "tangent space of dimension %d too small for ARPACK", R->dim);
+        return SF_OK;
+    }
+    found F = {0, 4 * want + 2 * EXTRA, NULL, NULL, NULL};
+    if (F.cap > R->dim) F.cap = R->dim;
+    F.val = malloc(sizeof(double) * (size_t)F.cap * 2);
+    F.Y = malloc(sizeof(double) * (size_t)F.cap * (size_t)n);
+    double *ev = malloc(sizeof(double) * (size_t)F.cap);
+    double *Z = malloc(sizeof(double) * (size_t)F.cap * (size_t)n);
+    int rc = SF_OK;
+    if (!F.val || !F.Y || !ev || !Z) {
+        rc = sf_fail(err, SF_ENOMEM, "out of memory");
+        goto out;
+    }
+    F.sorted = F.val + F.cap;
+    double fs = sigma0; /* shift of the current factors */
+    int nev = want;
+    sf_error e2;
+    sf_error_clear(&e2);
+    for (int a = 0; a < s->o.attempts && !*done; a++) {
+        double sigma;
+        int ncv, conv = 0, iters = 0, nn = 0, ng = 0;
+        int room = R->dim - F.nf;
+        if (nev > room) nev = room;
+        if (nev > n - 1) nev = n - 1;
+        if (nev > F.cap - F.nf) nev = F.cap - F.nf;
+        if (nev < 1) {
+            add_reason(R, "attempt %d: no room left to deflate; ", a + 1);
+            break;
+        }
+        attempt_plan(s, a, morse0, sigma0, nev, room, &sigma, &ncv);
+        R->attempts++;
+        if (sigma != fs && factor_at(s, sigma, &ng, &nn, &e2)) {
+            if (e2.code == SF_ENOMEM) {
+                rc = sf_fail(err, SF_ENOMEM, "%s", e2.msg);
+                goto out;
+            }
+            add_reason(R, "attempt %d: factorisation at the shift failed; ", a + 1);
+            sf_error_clear(&e2);
+            fs = NAN;
+            continue;
+        }
+        fs = sigma; /* the factors are now those of K(sigma) */
+        int info = arpack_run(s, sigma, nev, ncv, (unsigned long)a, F.Y, F.nf, ev, Z, &conv,
+                              &iters, &e2);
+        if (info <= -1000) {
+            if (e2.code == SF_ENOMEM) {
+                rc = sf_fail(err, SF_ENOMEM, "%s", e2.msg);
+                goto out;
+            }
+            add_reason(R, "attempt %d: solve failed; ", a + 1);
+            sf_error_clear(&e2);
+            continue;
+        }
+        if (info != 0) {
+            add_reason(R, "attempt %d: ARPACK %s info %d (%d of %d converged, ncv %d, shift "
+                       "%.3g); ", a + 1, info >= 10000 ? "dseupd" : "dsaupd",
+                       info >= 10000 ? info - 10000 : info, conv, nev, ncv, sigma);
+            continue;
+        }
+        /* keep what was found (eigenvectors of H_c, whatever the shift) */
+        memcpy(F.val + F.nf, ev, sizeof(double) * (size_t)nev);
+        memcpy(F.Y + (size_t)F.nf * n, Z, sizeof(double) * (size_t)nev * n);
+        F.nf += nev;
+        memcpy(F.sorted, F.val, sizeof(double) * (size_t)F.nf);
+        qsort(F.sorted, (size_t)F.nf, sizeof(double), cmp_double);
+        R->iters = iters;
+        int missed = sturm_check(s, F.sorted, F.nf, R->rank, R->null_pivots, &e2);
+        fs = NAN;
+        if (missed < 0) {
+            rc = sf_fail(err, SF_ENOMEM, "%s", e2.msg);
+            goto out;
+        }
+        if (missed > 0) {
+            add_reason(R, "attempt %d: %d eigenvalue(s) missed (Sturm count, ncv %d), deflated; ",
+                       a + 1, missed, ncv);
+            nev = missed + EXTRA;
+            continue;
+        }
+        *done = 1;
+    }
+    if (*done) {
+        R->neig = F.nf < s->o.nev ? F.nf : s->o.nev;
+        memcpy(R->eig, F.sorted, sizeof(double) * (size_t)R->neig);
+        int c = 0;
+        for (int i = 0; i < F.nf; i++) c += F.sorted[i] < 0.0;
+        R->morse = c < F.nf ? c : (c > morse0 ? c : morse0);
+    }
+out:
+    free(F.val);
+    free(F.Y);
+    free(ev);
+    free(Z);
+    return rc;
 }
 
 int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
@@ -332,8 +551,14 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
     if ((rc = check_csc(HL, n, n, "HL", err))) return rc;
     if (C && s->m > 0 && (rc = check_csc(C, s->m, n, "C", err))) return rc;
     if ((rc = assemble(s, HL, C, err))) return rc;
-    /* inertia at sigma0; with rank-deficient C, the null pivot count is
-     * confirmed at a second shift (a singular H_c - sigma adds one) */
+    if (s->spqr_failed) {
+        R->status = SF_SSTAB_UNKNOWN;
+        snprintf(R->reason, sizeof R->reason, "the rank of the constraint rows could not be "
+                 "decided (SuiteSparseQR)");
+        return SF_OK;
+    }
+    /* inertia at sigma0; a null pivot (Cr is independent, so it means an
+     * eigenvalue of H_c at sigma0) moves the shift once */
     double sigma0 = -SHIFT_REL * s->scale;
     int neg = 0, nnull = 0;
     sf_error e2;
@@ -356,7 +581,7 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
         return SF_OK;
     }
     R->null_pivots = nnull;
-    R->rank = s->mk - nnull;
+    R->rank = s->mk;
     R->dim = n - R->rank;
     R->morse = neg - R->rank;
     if (R->morse < 0) {
@@ -367,70 +592,15 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
         return SF_OK;
     }
     int morse0 = R->morse;
-    int nev = s->o.nev + EXTRA < R->dim - 1 ? s->o.nev + EXTRA : R->dim - 1;
-    double *ev = malloc(sizeof(double) * (size_t)(nev > 0 ? nev : 1));
-    if (!ev) return sf_fail(err, SF_ENOMEM, "out of memory");
+    if (R->dim <= 0) { /* no motion: nothing can be unstable */
+        R->dim = 0;
+        R->morse = 0;
+        R->stable = 1;
+        R->status = SF_SSTAB_OK;
+        return SF_OK;
+    }
     int done = 0;
-    double fs = sigma0; /* shift of the current factors */
-    if (nev < 1) {
-        add_reason(R, "tangent space of dimension %d too small for ARPACK", R->dim);
-    }
-    for (int a = 0; a < s->o.attempts && nev >= 1 && !done; a++) {
-        double sigma;
-        int ncv, conv = 0, iters = 0, nn = 0, ng = 0;
-        attempt_plan(s, a, morse0, sigma0, nev, R->dim, &sigma, &ncv);
-        R->attempts++;
-        if (sigma != fs && factor_at(s, sigma, &ng, &nn, &e2)) {
-            if (e2.code == SF_ENOMEM) {
-                free(ev);
-                return sf_fail(err, SF_ENOMEM, "%s", e2.msg);
-            }
-            add_reason(R, "attempt %d: factorisation at the shift failed; ", a + 1);
-            sf_error_clear(&e2);
-            fs = NAN;
-            continue;
-        }
-        fs = sigma; /* the factors are now those of K(sigma) */
-        int info = arpack_run(s, sigma, nev, ncv, (unsigned long)a, ev, &conv, &iters, &e2);
-        if (info == 0) qsort(ev, (size_t)nev, sizeof(double), cmp_double);
-        int missed = 0;
-        if (info == 0) {
-            missed = sturm_check(s, ev, nev, R->rank, R->null_pivots, &e2);
-            fs = NAN;
-            if (missed < 0) {
-                free(ev);
-                return sf_fail(err, SF_ENOMEM, "%s", e2.msg);
-            }
-        }
-        if (info == 0 && missed > 0) {
-            add_reason(R, "attempt %d: %d eigenvalue(s) missed (Sturm count, ncv %d); ", a + 1,
-                       missed, ncv);
-            continue;
-        }
-        if (info == 0) {
-            R->neig = nev < s->o.nev ? nev : s->o.nev;
-            memcpy(R->eig, ev, sizeof(double) * (size_t)R->neig);
-            R->iters = iters;
-            done = 1;
-            int c = 0;
-            for (int i = 0; i < nev; i++) c += ev[i] < 0.0;
-            R->morse = c < nev ? c : (c > morse0 ? c : morse0);
-            break;
-        }
-        if (info <= -1000) {
-            if (e2.code == SF_ENOMEM) {
-                free(ev);
-                return sf_fail(err, SF_ENOMEM, "%s", e2.msg);
-            }
-            add_reason(R, "attempt %d: solve failed; ", a + 1);
-            sf_error_clear(&e2);
-            continue;
-        }
-        add_reason(R, "attempt %d: ARPACK %s info %d (%d of %d converged, ncv %d, shift %.3g); ",
-                   a + 1, info >= 10000 ? "dseupd" : "dsaupd", info >= 10000 ? info - 10000 : info,
-                   conv, nev, ncv, sigma);
-    }
-    free(ev);
+    if ((rc = eigen_attempts(s, sigma0, morse0, &done, err))) return rc;
     size_t len = strlen(R->reason);
     while (len > 0 && (R->reason[len - 1] == ' ' || R->reason[len - 1] == ';'))
         R->reason[--len] = '\0';

@@ -14,22 +14,21 @@
  *  - rows of C are scaled to unit length; rows shorter than 1e-13 times the
  *    longest are dropped (zero to round-off, e.g. second-order loop rows
  *    at the flat state);
- *  - K(sigma) = [HL - sigma I, C^T; C, 0] is factorised by MUMPS (ldlt.h).
- *    Sylvester: with C of rank r and H_c - sigma regular,
- *      neg(K) = neg(H_c - sigma) + r,  null(K) = m' - r
- *    (m' the rows kept), so r = m' - null pivots and the Morse index is
- *    neg(K(sigma0)) - r with sigma0 = -1e-6 * max|diag HL| (a point whose
- *    smallest eigenvalue is in [sigma0, 0) is counted from its eigenvalue).
- *    Rank condition: the redundant rows of C must show as null pivots,
- *    i.e. the rows must be either independent with a smallest singular
- *    value (of the scaled rows) well above 1e-9 or dependent to round-off.
- *    When H_c itself is singular at a shift (a null pivot beyond the
- *    redundant rows, or a negative index) the shift is moved.
- *  - ARPACK (dsaupd/dseupd, mode 3) in shift-invert on the pencil
- *    (K(0), diag(I, 0)); each operator application is one MUMPS solve.
- *    When dsaupd does not converge it is retried with twice the subspace
- *    (ncv), then with a shift moved below the spectrum, up to
- *    opts.attempts times; every retry is counted in the result.
+ *  - the rank r of C and r independent rows Cr: SuiteSparseQR of C^T with
+ *    Heath's rank detection (tolerance 1e-9 on the unit rows, as the dense
+ *    method's SVD cut).  Rank condition: rows whose smallest singular
+ *    value lies near 1e-9 are ambiguous for either method;
+ *  - K(sigma) = [HL - sigma I, Cr^T; Cr, 0] factorised by MUMPS (ldlt.h).
+ *    Sylvester: neg(K) = neg(H_c - sigma) + r, so the Morse index is
+ *    neg(K(sigma0)) - r, sigma0 = -1e-6 * max|diag HL| (an eigenvalue in
+ *    [sigma0, 0) is counted from its computed value);
+ *  - ARPACK (dsaupd/dseupd) in shift-invert on the pencil (K(0), diag(I,
+ *    0)); each operator application is one MUMPS solve.  Every result is
+ *    checked by a Sturm count (inertia of K at a cut after the wanted
+ *    eigenvalues); missed copies of a multiple eigenvalue are found by
+ *    deflating the eigenvectors found.  A non-converged run is retried
+ *    with twice the subspace (ncv), then with a shift moved down, up to
+ *    opts.attempts; every retry is counted and explained in the result.
  *
  * Stability: unstable when the Morse index is positive (from the
  * inertia alone, so also when ARPACK failed); stable when it is 0 and the
@@ -68,7 +67,7 @@ typedef struct sf_sstab_result {
     int morse;         /* negative eigenvalues of H_c; -1 if the factorisation failed */
     int rank;          /* rank of C */
     int dim;           /* n - rank */
-    int null_pivots;   /* null pivots of K(sigma0) */
+    int null_pivots;   /* null pivots of K(sigma0) (0 unless sigma0 hits an eigenvalue) */
     int neig;          /* eigenvalues in eig (0 when ARPACK failed) */
     double *eig;       /* [nev] smallest eigenvalues of H_c, ascending */
     int attempts;      /* ARPACK attempts made (1 = first try converged) */

@@ -22,6 +22,9 @@ typedef struct sf_options {
 int sf_cmd_check(const sf_options *o, sf_error *err);
 int sf_cmd_shape(const sf_options *o, sf_error *err);
 int sf_cmd_run(const sf_options *o, sf_error *err);
+/* `smoothfold sweep STUDY.cfg [OPTION]...` (argv[0] = "sweep"): parses
+ * its own options, returns the exit status (sweep.c, docs/sweep.md). */
+int sf_cmd_sweep(int argc, char **argv);
 /* Prepare the output directory of a run (outdir.h: own earlier outputs
  * removed, a foreign non-empty directory refused without --force); says
  * on stderr what it removed unless quiet. */

@@ -17,6 +17,7 @@
 #include "compare.h"
 #include "cont.h"
 #include "equilibrium.h"
+#include "equilibrium_poses.h"
 #include "outbuf.h"
 #include "run_boundary.h"
 #include "run_dynamics.h"
@@ -177,7 +178,7 @@ static int write_point(run_ctx *r, const cont_point *pt)
         /* first point after a start off the flat state: the arclength
          * from the flat state, in the norm of the path (q and p) */
         double d2 = (pt->p - r->p_start) * (pt->p - r->p_start);
-        for (int j = 0; j < eq->nq; j++) d2 += pt->y[j] * pt->y[j];
+        for (int j = 0; j < m->nq; j++) d2 += pt->y[j] * pt->y[j];   /* fold coordinates */
         r->s_offset = sqrt(d2);
     }
     sf_outbuf *b = &r->rows;
@@ -373,6 +374,9 @@ static int run_equilibrium(run_ctx *r)
     const char *linsol;
     if (sf_study_string(s, "solver.linear_solver", "dense", &linsol, err)) return err->code;
     sf_equil_use_sparse(eq, strcmp(linsol, "sparse") == 0);
+    const char *formulation;
+    if (sf_study_string(s, "solver.formulation", "folds", &formulation, err)) return err->code;
+    if (strcmp(formulation, "poses") == 0 && sf_equil_use_poses(eq, err)) return err->code;
     r->probes = calloc((size_t)s->nprobes + 1, sizeof(sf_mpoint));
     if (!r->probes) return sf_fail(err, SF_ENOMEM, "out of memory");
     for (int i = 0; i < s->nprobes; i++)
@@ -407,6 +411,7 @@ static int run_equilibrium(run_ctx *r)
     r->branch_first = 1;
     double *y0 = calloc((size_t)eq->n + 1, sizeof(double));
     if (!y0) return sf_fail(err, SF_ENOMEM, "out of memory");
+    if (eq->pz) sf_equil_poses_lift(eq, y0);   /* the flat sheet in poses */
     int dir = end >= start ? +1 : -1, rc;
     /* Loads in several stages: the path has a corner where a stage ends
      * (the load changes direction), which the continuation takes for a
@@ -434,8 +439,9 @@ static int run_equilibrium(run_ctx *r)
                 y0[sc->model.qoff[i]] = eq->par.rest[i];
                 rested = 1;
             }
+        if (rested && eq->pz) sf_equil_poses_lift(eq, y0);
     }
-    if (eq->nloop > 0 && F0norm <= 1e-14) {
+    if ((eq->pz ? sc->topo.nivertices > 0 : eq->nloop > 0) && F0norm <= 1e-14) {
         /* The flat state solves the exact problem at the start, but it is a
          * singular point of loop closure (multipliers of the second-order
          * rows are undetermined there).  Report it, then start the branch
@@ -450,8 +456,9 @@ static int run_equilibrium(run_ctx *r)
         double p1 = start + dir * fmin(step, 0.25 * fabs(end - start));
         if (r->seg_end != end) p1 = start + dir * fmin(fabs(p1 - start), 0.25 * fabs(r->seg_end - start));
         r->s_offset = -1.0;   /* set from the first point (on_point) */
-        rc = sf_equil_start_flat(eq, cs, start, p1, dir, s->tolerance > 0 ? s->tolerance : 1e-10,
-                                 y0, err);
+        double tol = s->tolerance > 0 ? s->tolerance : 1e-10;
+        rc = eq->pz ? sf_equil_poses_start_flat(eq, cs, start, p1, dir, tol, y0, err)
+                    : sf_equil_start_flat(eq, cs, start, p1, dir, tol, y0, err);
         if (rc) {
             free(y0);
             return explain_start_failure(r);
@@ -462,6 +469,7 @@ static int run_equilibrium(run_ctx *r)
         if (rc != CONT_OK && rested && !r->failed) {
             /* the rest state did not lead Newton anywhere: try the flat sheet */
             memset(y0, 0, (size_t)eq->n * sizeof *y0);
+            if (eq->pz) sf_equil_poses_lift(eq, y0);
             rc = cont_start(cs, y0, start, dir);
         }
     }

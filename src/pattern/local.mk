@@ -7,6 +7,8 @@ src_libsmoothfold_a_SOURCES += src/pattern/pattern.h \
 	src/pattern/study_util.c src/pattern/study_paths.c src/pattern/study_set.c \
 	src/pattern/study_check.c src/pattern/study_fill.c src/pattern/study_write.c \
 	src/pattern/study_access.c \
-	src/pattern/topology.c src/pattern/topology.h src/pattern/assignment.c \
+	src/pattern/topology.c src/pattern/topology.h src/pattern/topology_impl.h \
+	src/pattern/topology_geom.c src/pattern/topology_check.c src/pattern/topology_bodies.c \
+	src/pattern/assignment.c \
 	src/pattern/cpattern.c src/pattern/cpattern.h src/pattern/cp_study.c \
 	src/pattern/generators.c src/pattern/generators.h

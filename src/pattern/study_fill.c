@@ -105,13 +105,15 @@ static const char *suggest_in(const char *word, const void *base,
     return r;
 }
 
-int st_fill(sf_study *s, config_t *cfg, sf_error *err)
+#define VIDX(nm) st_find_name((nm), s->vertices[0].name, sizeof(sf_vertex), s->nvertices)
+#define VSUG(nm) suggest_in((nm), s->vertices[0].name, sizeof(sf_vertex), s->nvertices)
+#define MIDX(nm) st_find_name((nm), s->materials[0].name, sizeof(sf_material), s->nmaterials)
+#define MSUG(nm) suggest_in((nm), s->materials[0].name, sizeof(sf_material), s->nmaterials)
+
+/* Vertices and the outline. */
+static int fill_vertices(sf_study *s, const config_setting_t *root, sf_error *err)
 {
-    const config_setting_t *root = config_root_setting(cfg);
     char h[200];
-
-    st_copy_name(s->name, st_mem(root, "name")->value.sval);
-
     /* vertices */
     const config_setting_t *vs = st_mem(root, "vertices");
     int nv = config_setting_length(vs);
@@ -126,8 +128,6 @@ int st_fill(sf_study *s, config_t *cfg, sf_error *err)
         s->vertices[i].x[1] = st_numval(config_setting_get_elem(e, 1));
         s->vertices[i].line = (int)e->line;
     }
-#define VIDX(nm) st_find_name((nm), s->vertices[0].name, sizeof(sf_vertex), s->nvertices)
-#define VSUG(nm) suggest_in((nm), s->vertices[0].name, sizeof(sf_vertex), s->nvertices)
 
     /* outline */
     const config_setting_t *ol = st_mem(st_mem(root, "sheet"), "outline");
@@ -146,7 +146,13 @@ int st_fill(sf_study *s, config_t *cfg, sf_error *err)
                 return st_bad(s, err, e, "vertex '%s' appears twice in the outline", e->value.sval);
         s->outline[i] = k;
     }
+    return SF_OK;
+}
 
+/* Materials and the faces' material. */
+static int fill_materials(sf_study *s, const config_setting_t *root, sf_error *err)
+{
+    char h[200];
     /* materials */
     const config_setting_t *ms = st_mem(root, "materials");
     int nm = config_setting_length(ms);
@@ -163,8 +169,6 @@ int st_fill(sf_study *s, config_t *cfg, sf_error *err)
         m->thickness = st_numval(st_mem(e, "thickness"));
         m->density = st_mem(e, "density") ? st_numval(st_mem(e, "density")) : 0.0;
     }
-#define MIDX(nm) st_find_name((nm), s->materials[0].name, sizeof(sf_material), s->nmaterials)
-#define MSUG(nm) suggest_in((nm), s->materials[0].name, sizeof(sf_material), s->nmaterials)
 
     /* faces */
     s->face_material = -1;
@@ -174,7 +178,12 @@ int st_fill(sf_study *s, config_t *cfg, sf_error *err)
         if (s->face_material < 0)
             return st_bad(s, err, fm, "unknown material '%s'%s", fm->value.sval, st_hint(h, sizeof h, MSUG(fm->value.sval)));
     }
+    return SF_OK;
+}
 
+/* Actuation groups. */
+static int fill_groups(sf_study *s, const config_setting_t *root, sf_error *err)
+{
     /* actuation groups */
     const config_setting_t *as = st_mem(root, "actuation");
     int ng = as ? config_setting_length(as) : 0;
@@ -192,7 +201,14 @@ int st_fill(sf_study *s, config_t *cfg, sf_error *err)
         s->groups[i].line = (int)e->line;
         s->ngroups = i + 1;
     }
+    return SF_OK;
+}
 
+/* Folds: ends, name, width and the other defaults, material, group. */
+static int fill_folds(sf_study *s, const config_setting_t *root, sf_error *err)
+{
+    char h[200];
+    const config_setting_t *ms = st_mem(root, "materials");
     /* folds */
     const config_setting_t *dft = st_mem(root, "defaults");
     const config_setting_t *fs = st_mem(root, "folds");
@@ -256,7 +272,12 @@ int st_fill(sf_study *s, config_t *cfg, sf_error *err)
             }
         }
     }
+    return SF_OK;
+}
 
+/* Loads, gravity and load stages (1, 2, ... without gaps). */
+static int fill_loads(sf_study *s, const config_setting_t *root, sf_error *err)
+{
     /* loads and stages */
     const config_setting_t *ls = st_mem(root, "loads");
     int nl = ls ? config_setting_length(ls) : 0;
@@ -297,7 +318,12 @@ int st_fill(sf_study *s, config_t *cfg, sf_error *err)
         if (!blame) blame = st_mem(gr, "stage");
         return st_bad(s, err, blame, "stage %d has no loads (stages must be 1, 2, ... without gaps)", k);
     }
+    return SF_OK;
+}
 
+/* Supports. */
+static int fill_supports(sf_study *s, const config_setting_t *root, sf_error *err)
+{
     /* supports */
     const config_setting_t *sp = st_mem(root, "supports");
     int ns = sp ? config_setting_length(sp) : 0;
@@ -318,7 +344,12 @@ int st_fill(sf_study *s, config_t *cfg, sf_error *err)
         if (!S->dof[0] && !S->dof[1] && !S->dof[2])
             return st_bad(s, err, st_mem(e, "fix"), "fixes nothing (at least one component must be true)");
     }
+    return SF_OK;
+}
 
+/* Probes. */
+static int fill_probes(sf_study *s, const config_setting_t *root, sf_error *err)
+{
     /* probes */
     const config_setting_t *ps = st_mem(root, "probes");
     int np = ps ? config_setting_length(ps) : 0;
@@ -336,7 +367,12 @@ int st_fill(sf_study *s, config_t *cfg, sf_error *err)
         s->probes[i].line = (int)e->line;
         s->nprobes = i + 1;
     }
+    return SF_OK;
+}
 
+/* The fixed face, solver and output settings. */
+static void fill_settings(sf_study *s, const config_setting_t *root)
+{
     /* fixed face */
     const config_setting_t *ff = st_mem(root, "fixed_face");
     get_vec(root, NULL, "fixed_face", "", s->fixed_point, 2);
@@ -353,7 +389,14 @@ int st_fill(sf_study *s, config_t *cfg, sf_error *err)
     const config_setting_t *ou = st_mem(root, "output");
     s->samples = (int)get_num(ou, NULL, "samples", "output.samples", NULL);
     s->shapes = (int)get_num(ou, NULL, "shapes", "output.shapes", NULL);
+}
 
+/* The analysis plan, and densities where mass matters. */
+static int fill_analysis(sf_study *s, const config_setting_t *root, sf_error *err)
+{
+    char h[200];
+    const config_setting_t *ms = st_mem(root, "materials");
+    const config_setting_t *gr = st_mem(root, "gravity");
     /* analysis */
     const config_setting_t *an = st_mem(root, "analysis");
     const char *type = st_get_str(an, "type", "analysis.type");
@@ -420,6 +463,7 @@ int st_fill(sf_study *s, config_t *cfg, sf_error *err)
         }
     }
 
+
     /* densities where mass matters */
     int inertia = dynamics && get_bool(an, "inertia", "analysis.inertia");
     if (s->gravity_on && s->face_material < 0)
@@ -434,8 +478,24 @@ int st_fill(sf_study *s, config_t *cfg, sf_error *err)
         }
     }
     return SF_OK;
+}
+
+int st_fill(sf_study *s, config_t *cfg, sf_error *err)
+{
+    const config_setting_t *root = config_root_setting(cfg);
+    st_copy_name(s->name, st_mem(root, "name")->value.sval);
+    int rc = fill_vertices(s, root, err);
+    if (!rc) rc = fill_materials(s, root, err);
+    if (!rc) rc = fill_groups(s, root, err);
+    if (!rc) rc = fill_folds(s, root, err);
+    if (!rc) rc = fill_loads(s, root, err);
+    if (!rc) rc = fill_supports(s, root, err);
+    if (!rc) rc = fill_probes(s, root, err);
+    if (!rc) fill_settings(s, root);
+    if (!rc) rc = fill_analysis(s, root, err);
+    return rc;
+}
 #undef VIDX
 #undef VSUG
 #undef MIDX
 #undef MSUG
-}
