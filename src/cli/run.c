@@ -397,6 +397,10 @@ static int run_equilibrium(run_ctx *r)
         return sf_fail(err, SF_ENOMEM, "continuation: %s",
                        r->solver ? cont_errmsg(r->solver) : "cannot create the solver");
     cont_solver *cs = r->solver;
+    if (eq->pz)
+        sf_outbuf_printf(&r->header, "# formulation: poses, %d unknowns (%d coordinates, %d "
+                         "multipliers), %ld Jacobian nonzeros\n", eq->n, eq->nq, eq->ncon,
+                         sf_equil_poses_nnz(eq));
     double lo = fmin(start, end), hi = fmax(start, end);
     cont_set_step(cs, step, min_step, max_step);
     cont_set_prange(cs, lo, hi);
@@ -441,7 +445,13 @@ static int run_equilibrium(run_ctx *r)
             }
         if (rested && eq->pz) sf_equil_poses_lift(eq, y0);
     }
-    if ((eq->pz ? sc->topo.nivertices > 0 : eq->nloop > 0) && F0norm <= 1e-14) {
+    const char *flat_start;
+    if (sf_study_string(s, "analysis.flat_start", "limit", &flat_start, err)) {
+        free(y0);
+        return err->code;
+    }
+    int direct = strcmp(flat_start, "direct") == 0;
+    if (!direct && (eq->pz ? sc->topo.nivertices > 0 : eq->nloop > 0) && F0norm <= 1e-14) {
         /* The flat state solves the exact problem at the start, but it is a
          * singular point of loop closure (multipliers of the second-order
          * rows are undetermined there).  Report it, then start the branch
