@@ -23,6 +23,7 @@ EXTRA_DIST += tests/test_bad_input.sh
 TESTS += tests/test_vtk.sh
 EXTRA_DIST += tests/test_vtk.sh
 include tests/equilibrium.mk
+include tests/poses.mk
 EXTRA_DIST += tests/sf_test.h
 include tests/dynamics.mk
 include tests/paths.mk
@@ -31,3 +32,11 @@ include tests/cli.mk
 include tests/bifurcation.mk
 include tests/pattern.mk
 include tests/boundary.mk
+include tests/multibp.mk
+# sweeps, serially and under mpirun (src/analysis/sweep.h, docs/sweep.md)
+check_PROGRAMS += tests/test_sweep_plan
+TESTS += tests/test_sweep_plan tests/test_sweep.sh
+tests_test_sweep_plan_SOURCES = tests/test_sweep_plan.c
+tests_test_sweep_plan_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_sweep_plan_LDADD = $(SF_TEST_LIBS)
+EXTRA_DIST += tests/test_sweep.sh

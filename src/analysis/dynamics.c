@@ -195,6 +195,12 @@ int sf_dyn_init(sf_dyn *d, const sf_model *m, sf_error *err)
         return sf_study_fail(s, err, SF_EINPUT, "analysis.load_schedule",
                              "the load is the parameter p here (analysis.parameter = \"load\"): "
                              "give its history in analysis.schedule");
+    const char *form;
+    if (sf_study_string(s, "solver.formulation", "folds", &form, err)) return err->code;
+    if (strcmp(form, "poses") == 0)
+        return sf_study_fail(s, err, SF_EINPUT, "solver.formulation",
+                             "trajectories (analysis.type = \"dynamics\") use the fold "
+                             "formulation only: set solver.formulation = \"folds\"");
     if (sf_equil_init(&d->eq, m, ptype, gi, pi, ci, d->load_fixed, err)) return err->code;
     if (s->constraints == SF_CONSTRAINTS_PENALTY)
         sf_equil_use_penalty(&d->eq, s->penalty_rotation, s->penalty_translation);

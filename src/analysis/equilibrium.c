@@ -9,6 +9,7 @@
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include "cont.h"
+#include "equilibrium_poses.h"
 #include "study.h"
 
 #define REG_EPS 1e-10
@@ -129,6 +130,7 @@ void sf_equil_use_penalty(sf_equil *q, double lR, double ld)
 
 void sf_equil_free(sf_equil *q)
 {
+    sf_peq_free(q);
     sf_energy_free(&q->e);
     sf_params_free(&q->par);
     sf_kin_free(&q->k);
@@ -234,6 +236,7 @@ static double row_value(sf_equil *q, int r, double p, int want_grad)
 int sf_equil_residual(const double *y, double p, double *F, void *user)
 {
     sf_equil *q = user;
+    if (q->pz) return sf_peq_residual(q, y, p, F);
     const sf_model *m = q->m;
     int nq = q->nq;
     if (!finite_all(y, q->n) || !isfinite(p)) return 1;
@@ -264,6 +267,7 @@ int sf_equil_residual(const double *y, double p, double *F, void *user)
 int sf_equil_jacobian(const double *y, double p, SUNMatrix Jy, double *Fp, void *user)
 {
     sf_equil *q = user;
+    if (q->pz) return sf_peq_jacobian(q, y, p, Jy, Fp);
     const sf_model *m = q->m;
     int nq = q->nq, n = q->n;
     if (!finite_all(y, n) || !isfinite(p)) return 1;
@@ -318,6 +322,7 @@ int sf_equil_jacobian(const double *y, double p, SUNMatrix Jy, double *Fp, void 
 
 int sf_equil_kkt(sf_equil *q, const double *y, double p, double *HL, double *C)
 {
+    if (q->pz) return sf_peq_kkt(q, y, p, HL, C);
     const sf_model *m = q->m;
     int nq = q->nq;
     if (!finite_all(y, q->n) || !isfinite(p)) return 1;
@@ -349,6 +354,10 @@ int sf_equil_kkt(sf_equil *q, const double *y, double p, double *HL, double *C)
 void sf_equil_report(sf_equil *q, const double *y, double p, double *Pi,
                      double *res_rot, double *res_tra)
 {
+    if (q->pz) {
+        sf_peq_report(q, y, p, Pi, res_rot, res_tra);
+        return;
+    }
     const sf_model *m = q->m;
     sf_equil_set_param(q, p);
     sf_kin_eval(m, y, 0, &q->k);
@@ -365,6 +374,7 @@ void sf_equil_report(sf_equil *q, const double *y, double p, double *Pi,
 
 int sf_equil_create_solver(sf_equil *q, cont_solver **out)
 {
+    if (q->pz) return sf_peq_create_solver(q, out);
     cont_problem prob;
     memset(&prob, 0, sizeof prob);
     prob.n = q->n;
@@ -396,6 +406,7 @@ void sf_equil_use_sparse(sf_equil *q, int sparse) { q->sparse = sparse != 0; }
 int sf_equil_jacobian_sparse(const double *y, double p, SUNMatrix Jy, double *Fp, void *user)
 {
     sf_equil *q = user;
+    if (q->pz) return sf_peq_jacobian(q, y, p, Jy, Fp);
     long n = q->n;
     if (q->Jd && SUNDenseMatrix_Columns(q->Jd) != n) {
         SUNMatDestroy(q->Jd);

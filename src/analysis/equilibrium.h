@@ -62,6 +62,9 @@ typedef struct sf_equil {
      * apply the time histories of other actuation groups. */
     void (*param_hook)(struct sf_equil *q, double p, void *data);
     void *param_hook_data;
+    /* the face-pose formulation (equilibrium_poses.h), NULL for fold
+     * coordinates: set by sf_equil_use_poses */
+    struct sf_peq *pz;
 } sf_equil;
 
 int sf_equil_init(sf_equil *q, const sf_model *m, int param, int group,

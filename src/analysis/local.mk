@@ -2,6 +2,7 @@
 # the flat start, stability, bifurcation bookkeeping, mobility, reactions,
 # dynamics, comparison with reference data.
 src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibrium.h \
+	src/analysis/equilibrium_poses.c src/analysis/equilibrium_poses.h \
 	src/analysis/flatstart.c src/analysis/flatstart.h \
 	src/analysis/reactions.c src/analysis/reactions.h \
 	src/analysis/mobility.c src/analysis/mobility.h \
@@ -13,4 +14,6 @@ src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibri
 	src/analysis/bifurcation.c src/analysis/bifurcation.h \
 	src/analysis/dynamics.c src/analysis/dynamics.h src/analysis/dynamics_impl.h \
 	src/analysis/dynamics_dae.c \
-	src/analysis/boundary.c src/analysis/boundary.h
+	src/analysis/boundary.c src/analysis/boundary.h \
+	src/analysis/sweep.c src/analysis/sweep_run.c src/analysis/sweep.h \
+	src/analysis/multibp.c src/analysis/multibp.h

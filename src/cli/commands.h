@@ -22,6 +22,9 @@ typedef struct sf_options {
 int sf_cmd_check(const sf_options *o, sf_error *err);
 int sf_cmd_shape(const sf_options *o, sf_error *err);
 int sf_cmd_run(const sf_options *o, sf_error *err);
+/* `smoothfold sweep STUDY.cfg [OPTION]...` (argv[0] = "sweep"): parses
+ * its own options, returns the exit status (sweep.c, docs/sweep.md). */
+int sf_cmd_sweep(int argc, char **argv);
 /* Prepare the output directory of a run (outdir.h: own earlier outputs
  * removed, a foreign non-empty directory refused without --force); says
  * on stderr what it removed unless quiet. */
@@ -41,7 +44,7 @@ int sf_cmd_is_pattern(const char *cmd);
 int sf_cmd_pattern(int argc, char **argv, sf_error *err);
 /* cmd_fold.c: import a FOLD file as a study; export a study as FOLD. */
 struct sf_cp_study_opts;
-int sf_cmd_import(int argc, char **argv, const char *output, const char *unit,
+int sf_cmd_import(int argc, char **argv, const char *cmdline, const char *output, const char *unit,
                   int frame, struct sf_cp_study_opts *so, int nset,
                   const char **sets, sf_error *err);
 int sf_cmd_export(int argc, char **argv, const char *output, int nset,

@@ -2,5 +2,21 @@
 src_smoothfold_SOURCES += src/cli/main.c src/cli/commands.c src/cli/commands.h \
 	src/cli/run.c src/cli/run_dynamics.c src/cli/run_dynamics.h src/cli/cmp_runs.c src/cli/plot.c \
 	src/cli/cmd_pattern.c src/cli/cmd_fold.c \
-	src/cli/run_boundary.c src/cli/run_boundary.h
+	src/cli/run_boundary.c src/cli/run_boundary.h \
+	src/cli/sweep.c src/cli/sweep_cli.c src/cli/sweep_cli.h
+EXTRA_DIST += plots/sweep.gp src/cli/sweep_mpi.c
+
+# smoothfold-sweep-mpi (sweep_mpi.c): MPI rank 0 hands out the variants of a
+# sweep.  Built only with MPI (configure --with-mpi).  It needs the sweep and
+# study code and libconfig, nothing numerical: its own link line, with -lmpi
+# before $(LIBS) and --as-needed, so that no MPI stub library (MUMPS's
+# libmpiseq) that $(LIBS) may hold can stand in for OpenMPI; MPI_CFLAGS come
+# first for the same reason (mumps_seq has an mpi.h of its own).
+if SF_MPI
+bin_PROGRAMS += src/smoothfold-sweep-mpi
+src_smoothfold_sweep_mpi_SOURCES = src/cli/sweep_mpi.c src/cli/sweep_cli.c src/cli/sweep_cli.h
+src_smoothfold_sweep_mpi_CPPFLAGS = $(MPI_CFLAGS) $(AM_CPPFLAGS)
+src_smoothfold_sweep_mpi_LDFLAGS = -Wl,--as-needed
+src_smoothfold_sweep_mpi_LDADD = $(MPI_LIBS) src/libsmoothfold.a $(LIBCONFIG_LIBS) -lm
+endif
 EXTRA_DIST += plots/stability.gp plots/eigenvalues.gp plots/angles.gp plots/trajectory.gp plots/boundary.gp

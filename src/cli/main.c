@@ -42,6 +42,9 @@ static const char *usage_text =
     "  import P.fold -o S.cfg  a FOLD crease pattern as a ready-to-run study\n"
     "  export S.cfg -o P.fold  a study's crease pattern as FOLD\n"
     "                          (smoothfold pattern --help for their options)\n"
+    "  sweep STUDY.cfg --vary KEY=V1,V2,... -o DIR\n"
+    "                          run variants of a study (serially, or under\n"
+    "                          mpirun); smoothfold sweep --help\n"
     "\n"
     "Options:\n"
     "  -o, --output=PATH       output file (shape) or directory (run)\n"
@@ -215,6 +218,7 @@ int main(int argc, char **argv)
         {"version", no_argument, NULL, 'V'},
         {NULL, 0, NULL, 0},
     };
+    if (argc >= 2 && strcmp(argv[1], "sweep") == 0) return sf_cmd_sweep(argc - 1, argv + 1);
     if (argc >= 2 && sf_cmd_is_pattern(argv[1])) {   /* pattern, import, export */
         sf_error perr;
         sf_error_clear(&perr);
@@ -285,7 +289,7 @@ int main(int argc, char **argv)
     if (optind >= argc) {
         status = fail_usage("missing command (check, shape, run, plot, compare)");
     } else if (!cmd) {
-        snprintf(msg, sizeof msg, "unknown command '%s' (commands: check, shape, run, plot, compare)",
+        snprintf(msg, sizeof msg, "unknown command '%s' (commands: check, shape, run, plot, compare, sweep)",
                  argv[optind]);
         status = fail_usage(msg);
     } else if (argc - optind - 1 != cmd->nargs) {

@@ -198,6 +198,14 @@ int sf_cmd_plot(const char *dir, const char *folds, sf_error *err)
     snprintf(branch, sizeof branch, "%s/branch.tsv", dir);
     snprintf(traj, sizeof traj, "%s/trajectory.tsv", dir);
     int have_branch = stat(branch, &st) == 0, have_traj = stat(traj, &st) == 0;
+    char sweep[1200];
+    snprintf(sweep, sizeof sweep, "%s/sweep.tsv", dir);
+    if (!have_branch && !have_traj && stat(sweep, &st) == 0) {
+        const char *scripts[] = {"sweep.gp"};   /* a sweep directory (docs/sweep.md) */
+        if (run_scripts(dir, scripts, 1, NULL, err)) return err->code;
+        printf("wrote %s/sweep.png, sweep.pdf\n", dir);
+        return SF_OK;
+    }
     if (!have_branch && !have_traj)
         return sf_fail(err, SF_EIO, "plot: %s: no such file (run `smoothfold run STUDY.cfg -o %s` "
                        "first)", branch, dir);

@@ -17,6 +17,7 @@
 #include "compare.h"
 #include "cont.h"
 #include "equilibrium.h"
+#include "equilibrium_poses.h"
 #include "outbuf.h"
 #include "run_boundary.h"
 #include "run_dynamics.h"
@@ -177,7 +178,7 @@ static int write_point(run_ctx *r, const cont_point *pt)
         /* first point after a start off the flat state: the arclength
          * from the flat state, in the norm of the path (q and p) */
         double d2 = (pt->p - r->p_start) * (pt->p - r->p_start);
-        for (int j = 0; j < eq->nq; j++) d2 += pt->y[j] * pt->y[j];
+        for (int j = 0; j < m->nq; j++) d2 += pt->y[j] * pt->y[j];   /* fold coordinates */
         r->s_offset = sqrt(d2);
     }
     sf_outbuf *b = &r->rows;
@@ -219,7 +220,7 @@ static int write_point(run_ctx *r, const cont_point *pt)
             branch_note(r, "%s at row %ld (branch %d, p = %.10g) located only to within %.3g in "
                         "arclength: the corrector left the branch while bisecting", pt->label,
                         r->npoints, r->bif.branch, pt->p, pt->loc_err);
-        if (strcmp(pt->label, "BP") == 0 && sf_bif_add_bp(&r->bif, pt, r->err)) {
+        if (strncmp(pt->label, "BP", 2) == 0 && sf_bif_add_bp(&r->bif, pt, r->err)) {
             r->failed = 1;
             return 1;
         }
@@ -335,6 +336,44 @@ static void stage_segment(run_ctx *r, double p, int dir, double lo, double hi)
     cont_set_prange(r->solver, dir > 0 ? lo : e, dir > 0 ? e : hi);
 }
 
+/* Follow the path from its start point: one load stage after the other
+ * when the loads come in stages (staged), then the branches through the
+ * branch points met (bifurcation.h).  y0: scratch of n values, freed here. */
+static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, double hi)
+{
+    cont_solver *cs = r->solver;
+    const sf_study *s = &r->sc->study;
+    sf_equil *eq = &r->eq;
+    sf_error *err = r->err;
+    double end = r->p_end;
+    int rc = cont_run(cs);
+    while (staged && rc == CONT_DONE && !r->failed && r->seg_end != end &&
+           cont_stop_reason(cs) == (dir > 0 ? CONT_STOP_PMAX : CONT_STOP_PMIN)) {
+        /* next stage, from the last point */
+        const cont_point *last = cont_get_point(cs);
+        double pb = last->p;
+        r->s_offset += last->s;
+        memcpy(y0, last->y, (size_t)eq->n * sizeof *y0);
+        stage_segment(r, pb, dir, lo, hi);
+        r->skip_start = 1;
+        if (cont_start(cs, y0, pb, dir) != CONT_OK) {
+            r->skip_start = 0;
+            if (r->failed) break;
+            free(y0);
+            return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: no restart at "
+                           "the end of load stage %d (p = %g): %s", s->path, r->npoints,
+                           (int)lround(pb), pb, cont_errmsg(cs));
+        }
+        rc = cont_run(cs);
+    }
+    free(y0);
+    if (r->failed) return err->code;
+    if (rc == CONT_FAIL)
+        return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: %s", s->path,
+                       r->npoints, cont_errmsg(cs));
+    return sf_bif_switch(&r->bif, cs, err);
+}
+
 static int run_equilibrium(run_ctx *r)
 {
     sf_scene *sc = r->sc;
@@ -373,6 +412,9 @@ static int run_equilibrium(run_ctx *r)
     const char *linsol;
     if (sf_study_string(s, "solver.linear_solver", "dense", &linsol, err)) return err->code;
     sf_equil_use_sparse(eq, strcmp(linsol, "sparse") == 0);
+    const char *formulation;
+    if (sf_study_string(s, "solver.formulation", "folds", &formulation, err)) return err->code;
+    if (strcmp(formulation, "poses") == 0 && sf_equil_use_poses(eq, err)) return err->code;
     r->probes = calloc((size_t)s->nprobes + 1, sizeof(sf_mpoint));
     if (!r->probes) return sf_fail(err, SF_ENOMEM, "out of memory");
     for (int i = 0; i < s->nprobes; i++)
@@ -407,6 +449,7 @@ static int run_equilibrium(run_ctx *r)
     r->branch_first = 1;
     double *y0 = calloc((size_t)eq->n + 1, sizeof(double));
     if (!y0) return sf_fail(err, SF_ENOMEM, "out of memory");
+    if (eq->pz) sf_equil_poses_lift(eq, y0);   /* the flat sheet in poses */
     int dir = end >= start ? +1 : -1, rc;
     /* Loads in several stages: the path has a corner where a stage ends
      * (the load changes direction), which the continuation takes for a
@@ -434,8 +477,9 @@ static int run_equilibrium(run_ctx *r)
                 y0[sc->model.qoff[i]] = eq->par.rest[i];
                 rested = 1;
             }
+        if (rested && eq->pz) sf_equil_poses_lift(eq, y0);
     }
-    if (eq->nloop > 0 && F0norm <= 1e-14) {
+    if ((eq->pz ? sc->topo.nivertices > 0 : eq->nloop > 0) && F0norm <= 1e-14) {
         /* The flat state solves the exact problem at the start, but it is a
          * singular point of loop closure (multipliers of the second-order
          * rows are undetermined there).  Report it, then start the branch
@@ -450,8 +494,9 @@ static int run_equilibrium(run_ctx *r)
         double p1 = start + dir * fmin(step, 0.25 * fabs(end - start));
         if (r->seg_end != end) p1 = start + dir * fmin(fabs(p1 - start), 0.25 * fabs(r->seg_end - start));
         r->s_offset = -1.0;   /* set from the first point (on_point) */
-        rc = sf_equil_start_flat(eq, cs, start, p1, dir, s->tolerance > 0 ? s->tolerance : 1e-10,
-                                 y0, err);
+        double tol = s->tolerance > 0 ? s->tolerance : 1e-10;
+        rc = eq->pz ? sf_equil_poses_start_flat(eq, cs, start, p1, dir, tol, y0, err)
+                    : sf_equil_start_flat(eq, cs, start, p1, dir, tol, y0, err);
         if (rc) {
             free(y0);
             return explain_start_failure(r);
@@ -462,6 +507,7 @@ static int run_equilibrium(run_ctx *r)
         if (rc != CONT_OK && rested && !r->failed) {
             /* the rest state did not lead Newton anywhere: try the flat sheet */
             memset(y0, 0, (size_t)eq->n * sizeof *y0);
+            if (eq->pz) sf_equil_poses_lift(eq, y0);
             rc = cont_start(cs, y0, start, dir);
         }
     }
@@ -474,32 +520,7 @@ static int run_equilibrium(run_ctx *r)
                             "solver.constraints = \"penalty\" is the paper's method)" : "");
         return explain_start_failure(r);
     }
-    rc = cont_run(cs);
-    while (staged && rc == CONT_DONE && !r->failed && r->seg_end != end &&
-           cont_stop_reason(cs) == (dir > 0 ? CONT_STOP_PMAX : CONT_STOP_PMIN)) {
-        /* next stage, from the last point */
-        const cont_point *last = cont_get_point(cs);
-        double pb = last->p;
-        r->s_offset += last->s;
-        memcpy(y0, last->y, (size_t)eq->n * sizeof *y0);
-        stage_segment(r, pb, dir, lo, hi);
-        r->skip_start = 1;
-        if (cont_start(cs, y0, pb, dir) != CONT_OK) {
-            r->skip_start = 0;
-            if (r->failed) break;
-            free(y0);
-            return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: no restart at "
-                           "the end of load stage %d (p = %g): %s", s->path, r->npoints,
-                           (int)lround(pb), pb, cont_errmsg(cs));
-        }
-        rc = cont_run(cs);
-    }
-    free(y0);
-    if (r->failed) return err->code;
-    if (rc == CONT_FAIL)
-        return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: %s", s->path,
-                       r->npoints, cont_errmsg(cs));
-    return sf_bif_switch(&r->bif, cs, err);
+    return follow_path(r, y0, staged, dir, lo, hi);
 }
 
 static int write_outputs(run_ctx *r)

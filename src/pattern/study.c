@@ -123,6 +123,7 @@ static const sf_study_key schema[] = {
     {"solver.penalty_translation", NUM,   POS,            0, 0,       "1.0",         NULL, "J/m^2", "lambda_d, penalty on the translation"},
     {"solver.quadrature",          INT,   RANGE,          1, 64,      "24",          NULL, "-", "Gauss-Legendre points across a fold"},
     {"solver.tolerance",           NUM,   POS,            0, 0,       "1e-10",       NULL, "-", "Newton tolerance (scaled residual norm)"},
+    {"solver.formulation",         STR,   0,              0, 0,       "folds",       "folds|poses", "-", "unknowns: fold coordinates (loops closed by 6 rows per interior vertex) or face poses (6 rows per fold, sparse; exact constraints only), docs/formulations.md"},
     {"solver.linear_solver",       STR,   0,              0, 0,       "dense",       "dense|sparse", "-", "Newton systems: dense LU (LAPACK-style, SUNDIALS dense) or sparse LU (KLU on the compressed Jacobian)"},
 
     {"output",                     G,     AUTO,           0, 0,       NULL,          NULL, "-", "output settings"},
@@ -189,6 +190,12 @@ static const sf_study_key schema[] = {
     {"references[].columns[].measure", STR, 0,            0, 0,       "scaled",      "scaled|relative|absolute", "-", "error measure: |d| / max |reference|, |d| / |reference| pointwise, or |d| in the quantity's unit"},
     {"references[].columns[].norm", STR,  0,              0, 0,       "max",         "max|rms|end", "-", "which error the tolerance bounds: largest, root mean square, or at the last compared row"},
     {"references[].columns[].tolerance", NUM, POS,        0, 0,       NULL,          NULL, "-", "bound on that error (absent: report only); exceeded, the run exits with status 6"},
+
+    /* smoothfold sweep (src/analysis/sweep.h); `run` ignores the group */
+    {"sweep",                      G,     0,              0, 0,       NULL,          NULL, "-", "parameter sweep: the variants `smoothfold sweep` runs (docs/sweep.md)"},
+    {"sweep.vary",                 NAMES, REQ,            0, 0,       NULL,          NULL, "-", "varied keys as for --vary: [\"KEY=V1,V2,...\", \"KEY=START:STOP:N\"]"},
+    {"sweep.mode",                 STR,   0,              0, 0,       "product",     "product|list", "-", "every combination of the values, or a list (variant i takes the i-th value of every key)"},
+    {"sweep.map",                  STR,   0,              0, 0,       NULL,          NULL, "-", "sweep.tsv column drawn over the first two varied keys by `smoothfold plot` (default: lp_p, else bp_p, else end_probe1_uz)"},
 };
 
 #undef G

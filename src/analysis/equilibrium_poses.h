@@ -1,0 +1,48 @@
+/* equilibrium_poses.h - the equilibrium problem of equilibrium.h in the
+ * face-pose formulation (MODEL.md 9, src/model/poses.h), behind the same
+ * sf_equil: after sf_equil_use_poses the unknowns are
+ *   y = (x, lambda),  x = (q, face poses) (nx = q->nq values, the fold
+ *   coordinates first, see poses.h), lambda = 6 rows per fold (rotation,
+ *   translation: q->nloop = 6 N), then the support and displacement rows,
+ * and sf_equil_residual, sf_equil_jacobian(_sparse), sf_equil_kkt,
+ * sf_equil_report and sf_equil_create_solver use the functions below.
+ * The Jacobian [HL J^T; J -eps D] is assembled directly into CSC: its
+ * pattern is recorded once (sf_equil_use_poses) as a fixed sequence of
+ * additions, then values are refilled through the map (poses.h,
+ * sf_triplets).  Nothing of size nx^2 is formed except by sf_equil_kkt,
+ * whose callers (the dense stability analysis) ask for dense blocks. */
+#ifndef SF_EQUILIBRIUM_POSES_H
+#define SF_EQUILIBRIUM_POSES_H
+
+#include "equilibrium.h"
+
+struct cont_solver;
+
+/* Switch q (exact constraints, just initialised) to the pose formulation.
+ * Fails with a message naming the study for penalty constraints. */
+int sf_equil_use_poses(sf_equil *q, sf_error *err);
+
+/* Complete a state whose first m->nq values are fold coordinates: the
+ * poses from the tree maps (poses.h, sf_poses_from_folds), multipliers 0. */
+int sf_equil_poses_lift(sf_equil *q, double *y);
+
+/* Nonzeros of the Jacobian pattern. */
+long sf_equil_poses_nnz(const sf_equil *q);
+
+/* Start an exact path at p1 off the flat state (solving the problem at
+ * p0): the fold formulation's start (flatstart.h) on a fold-coordinate
+ * copy of the problem, lifted to poses, then cont_start of cs (created for
+ * q) from there.  y receives the lifted guess. */
+int sf_equil_poses_start_flat(sf_equil *q, struct cont_solver *cs, double p0, double p1,
+                              int dir, double tol, double *y, sf_error *err);
+
+/* Used by equilibrium.c when q->pz is set. */
+int sf_peq_residual(sf_equil *q, const double *y, double p, double *F);
+int sf_peq_jacobian(sf_equil *q, const double *y, double p, SUNMatrix Jy, double *Fp);
+int sf_peq_kkt(sf_equil *q, const double *y, double p, double *HL, double *C);
+void sf_peq_report(sf_equil *q, const double *y, double p, double *Pi, double *res_rot,
+                   double *res_tra);
+int sf_peq_create_solver(sf_equil *q, struct cont_solver **out);
+void sf_peq_free(sf_equil *q);
+
+#endif

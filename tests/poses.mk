@@ -1,0 +1,10 @@
+# the face-pose formulation: derivatives against finite differences, the
+# same equilibria as the fold formulation, linear growth of the nonzeros
+check_PROGRAMS += tests/test_poses
+TESTS += tests/test_poses
+tests_test_poses_SOURCES = tests/test_poses.c
+tests_test_poses_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_poses_LDADD = $(SF_TEST_LIBS)
+EXTRA_DIST += tests/studies/miura2.cfg tests/studies/miura4.cfg bench/miura-study.sh
+TESTS += tests/test_poses_run.sh
+EXTRA_DIST += tests/test_poses_run.sh
