@@ -340,6 +340,44 @@ static void stage_segment(run_ctx *r, double p, int dir, double lo, double hi)
     cont_set_prange(r->solver, dir > 0 ? lo : e, dir > 0 ? e : hi);
 }
 
+/* Follow the path from its start point: one load stage after the other
+ * when the loads come in stages (staged), then the branches through the
+ * branch points met (bifurcation.h).  y0: scratch of n values, freed here. */
+static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, double hi)
+{
+    cont_solver *cs = r->solver;
+    const sf_study *s = &r->sc->study;
+    sf_equil *eq = &r->eq;
+    sf_error *err = r->err;
+    double end = r->p_end;
+    int rc = cont_run(cs);
+    while (staged && rc == CONT_DONE && !r->failed && r->seg_end != end &&
+           cont_stop_reason(cs) == (dir > 0 ? CONT_STOP_PMAX : CONT_STOP_PMIN)) {
+        /* next stage, from the last point */
+        const cont_point *last = cont_get_point(cs);
+        double pb = last->p;
+        r->s_offset += last->s;
+        memcpy(y0, last->y, (size_t)eq->n * sizeof *y0);
+        stage_segment(r, pb, dir, lo, hi);
+        r->skip_start = 1;
+        if (cont_start(cs, y0, pb, dir) != CONT_OK) {
+            r->skip_start = 0;
+            if (r->failed) break;
+            free(y0);
+            return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: no restart at "
+                           "the end of load stage %d (p = %g): %s", s->path, r->npoints,
+                           (int)lround(pb), pb, cont_errmsg(cs));
+        }
+        rc = cont_run(cs);
+    }
+    free(y0);
+    if (r->failed) return err->code;
+    if (rc == CONT_FAIL)
+        return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: %s", s->path,
+                       r->npoints, cont_errmsg(cs));
+    return sf_bif_switch(&r->bif, cs, err);
+}
+
 static int run_equilibrium(run_ctx *r)
 {
     sf_scene *sc = r->sc;
@@ -486,32 +524,7 @@ static int run_equilibrium(run_ctx *r)
                             "solver.constraints = \"penalty\" is the paper's method)" : "");
         return explain_start_failure(r);
     }
-    rc = cont_run(cs);
-    while (staged && rc == CONT_DONE && !r->failed && r->seg_end != end &&
-           cont_stop_reason(cs) == (dir > 0 ? CONT_STOP_PMAX : CONT_STOP_PMIN)) {
-        /* next stage, from the last point */
-        const cont_point *last = cont_get_point(cs);
-        double pb = last->p;
-        r->s_offset += last->s;
-        memcpy(y0, last->y, (size_t)eq->n * sizeof *y0);
-        stage_segment(r, pb, dir, lo, hi);
-        r->skip_start = 1;
-        if (cont_start(cs, y0, pb, dir) != CONT_OK) {
-            r->skip_start = 0;
-            if (r->failed) break;
-            free(y0);
-            return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: no restart at "
-                           "the end of load stage %d (p = %g): %s", s->path, r->npoints,
-                           (int)lround(pb), pb, cont_errmsg(cs));
-        }
-        rc = cont_run(cs);
-    }
-    free(y0);
-    if (r->failed) return err->code;
-    if (rc == CONT_FAIL)
-        return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: %s", s->path,
-                       r->npoints, cont_errmsg(cs));
-    return sf_bif_switch(&r->bif, cs, err);
+    return follow_path(r, y0, staged, dir, lo, hi);
 }
 
 static int write_outputs(run_ctx *r)
