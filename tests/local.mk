@@ -32,6 +32,7 @@ include tests/cli.mk
 include tests/bifurcation.mk
 include tests/pattern.mk
 include tests/boundary.mk
+include tests/multibp.mk
 # sweeps, serially and under mpirun (src/analysis/sweep.h, docs/sweep.md)
 TESTS += tests/test_sweep.sh
 EXTRA_DIST += tests/test_sweep.sh

@@ -222,7 +222,7 @@ static int write_point(run_ctx *r, const cont_point *pt)
             branch_note(r, "%s at row %ld (branch %d, p = %.10g) located only to within %.3g in "
                         "arclength: the corrector left the branch while bisecting", pt->label,
                         r->npoints, r->bif.branch, pt->p, pt->loc_err);
-        if (strcmp(pt->label, "BP") == 0 && sf_bif_add_bp(&r->bif, pt, r->err)) {
+        if (strncmp(pt->label, "BP", 2) == 0 && sf_bif_add_bp(&r->bif, pt, r->err)) {
             r->failed = 1;
             return 1;
         }
