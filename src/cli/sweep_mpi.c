@@ -226,11 +226,20 @@ int main(int argc, char **argv)
     int rank, size;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
+    const char *launched = getenv("PMI_SIZE");   /* e.g. MPICH's launcher */
+    if (size == 1 && launched && atoi(launched) > 1) {
+        fprintf(stderr, "smoothfold: sweep: the launcher started %s processes but MPI sees one: "
+                "smoothfold-sweep-mpi was built with OpenMPI, use OpenMPI's mpirun (or srun "
+                "--mpi=pmix)\n", launched);
+        MPI_Finalize();
+        return 2;
+    }
     sf_sweep_opts o;
     sf_sweep_plan pl;
     sf_sweep sw;
     memset(&pl, 0, sizeof pl);
     memset(&sw, 0, sizeof sw);
+    sw.lock_fd = -1;
     char exe[4096];
     int rc = -1;
     if (rank == 0) {
