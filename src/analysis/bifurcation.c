@@ -483,7 +483,7 @@ static int switch_multi(sf_bif *b, cont_solver *cs, const sf_bif_bp *bp, sf_erro
          "two-dimensional kernel (eigenvalues of Jy %.3g and %.3g, next %.3g); %s reduced "
          "bifurcation equations (largest quadratic coefficient %.3g, cubic %.3g): %d isolated "
          "solutions (rays), branches %d..%d", bp->mult, bp->point, bp->branch, bp->p, M.eig[0],
-         M.eig[1], M.eig[2], M.order == 2 ? "quadratic" : "cubic", M.bnorm, M.cnorm, M.ndir,
+         M.eig[1], M.eig[2], M.order == 2 ? "quadratic + cubic" : "cubic", M.bnorm, M.cnorm, M.ndir,
          b->nbranches + 1, b->nbranches + M.ndir);
     bif_sig *sig = calloc((size_t)M.ndir, sizeof *sig);
     double *sbuf = malloc(sizeof(double) * (size_t)M.ndir * (size_t)(n + nq + 1));
