@@ -206,6 +206,76 @@ int cont_start_tangent(cont_solver *s, const double *y0, double p0,
     return finish_start(s, t0, nit, fn);
 }
 
+/* Special points between the step base b and the step's end xe (at
+ * arclength he from b): zeros of the LP, BP and user tests located, an LP
+ * and a BP at the same place merged into the BP, ordered by arclength into
+ * sp[0..*nsp_out).  0, or CONT_EUSER / CONT_ENOMEM (nothing left in sp). */
+static int special_points(cont_solver *s, const cpt *b, const cpt *xe, double he, cpt **sp,
+                          int *nsp_out)
+{
+    long n = s->n;
+    int nsp = 0;
+    int ids[40], nid = 0;
+    if (s->detect & CONT_DETECT_LP) ids[nid++] = TEST_LP;
+    if (s->detect & CONT_DETECT_BP) ids[nid++] = TEST_BP;
+    if (s->detect & CONT_DETECT_USER)
+        for (int k = 0; k < s->prob.ntest; k++) ids[nid++] = k;
+    for (int j = 0; j < nid; j++) {
+        int id = ids[j];
+        double f0, f1;
+        if (id == TEST_BP) {
+            if (!b->det_valid || !xe->det_valid) continue;
+            if (b->pub.det_sign == xe->pub.det_sign) continue;
+            if (s->first_step &&
+                b->pub.log_abs_det - xe->pub.log_abs_det <= log(SKIP_START_RATIO))
+                continue;
+        } else {
+            f0 = ci_test_value(s, id, b, 0.0, 0.0);
+            f1 = ci_test_value(s, id, xe, 0.0, 0.0);
+            if (!ci_differ(f0, f1)) continue;
+            if (s->first_step && fabs(f0) <= SKIP_START_RATIO * fabs(f1)) continue;
+        }
+        cpt *q = NULL;
+        int r = ci_locate(s, id, b, xe, he, 0.0, &q);
+        if (r == CONT_EUSER || r == CONT_ENOMEM) {
+            for (int k = 0; k < nsp; k++) ci_pt_free(sp[k]);
+            return r;
+        }
+        if (r != 0 || !q) continue;
+        if (id == TEST_LP) ci_set_label(q, CONT_PT_LP, "LP");
+        else if (id == TEST_BP) ci_set_label(q, CONT_PT_BP, "BP");
+        else {
+            ci_set_label(q, CONT_PT_USER, s->labels[id]);
+            q->pub.user_index = id;
+        }
+        sp[nsp++] = q;
+    }
+    /* an LP and a BP at the same place are one BP (pitchfork crossed along
+     * its bifurcating branch) */
+    for (int i = 0; i < nsp; i++) {
+        if (sp[i]->pub.type != CONT_PT_LP) continue;
+        for (int j = 0; j < nsp; j++) {
+            if (sp[j]->pub.type != CONT_PT_BP) continue;
+            double tol = fmax(1e3 * s->loc_tol * (1.0 + s->theta * fabs(sp[j]->x[n])),
+                              fmax(MERGE_FRAC * he,
+                                   2.0 * (sp[i]->pub.loc_err + sp[j]->pub.loc_err)));
+            if (fabs(sp[i]->h - sp[j]->h) <= tol) {
+                ci_pt_free(sp[i]);
+                sp[i] = sp[--nsp];
+                i--;
+                break;
+            }
+        }
+    }
+    /* order by arclength */
+    for (int i = 1; i < nsp; i++)
+        for (int j = i; j > 0 && sp[j]->h < sp[j - 1]->h; j--) {
+            cpt *tmp = sp[j]; sp[j] = sp[j - 1]; sp[j - 1] = tmp;
+        }
+    *nsp_out = nsp;
+    return 0;
+}
+
 /* Compute one step from s->base and queue the resulting points. */
 static int compute_step(cont_solver *s)
 {
@@ -288,66 +358,13 @@ static int compute_step(cont_solver *s)
     /* special points */
     cpt *sp[40];
     int nsp = 0;
-    int ids[40], nid = 0;
-    if (s->detect & CONT_DETECT_LP) ids[nid++] = TEST_LP;
-    if (s->detect & CONT_DETECT_BP) ids[nid++] = TEST_BP;
-    if (s->detect & CONT_DETECT_USER)
-        for (int k = 0; k < s->prob.ntest; k++) ids[nid++] = k;
-    for (int j = 0; j < nid; j++) {
-        int id = ids[j];
-        double f0, f1;
-        if (id == TEST_BP) {
-            if (!b->det_valid || !xe->det_valid) continue;
-            if (b->pub.det_sign == xe->pub.det_sign) continue;
-            if (s->first_step &&
-                b->pub.log_abs_det - xe->pub.log_abs_det <= log(SKIP_START_RATIO))
-                continue;
-        } else {
-            f0 = ci_test_value(s, id, b, 0.0, 0.0);
-            f1 = ci_test_value(s, id, xe, 0.0, 0.0);
-            if (!ci_differ(f0, f1)) continue;
-            if (s->first_step && fabs(f0) <= SKIP_START_RATIO * fabs(f1)) continue;
-        }
-        cpt *q = NULL;
-        r = ci_locate(s, id, b, xe, he, 0.0, &q);
-        if (r == CONT_EUSER || r == CONT_ENOMEM) {
-            free(c);
-            ci_pt_free(xe);
-            for (int k = 0; k < nsp; k++) ci_pt_free(sp[k]);
-            s->stop_reason = CONT_STOP_ERROR;
-            return r;
-        }
-        if (r != 0 || !q) continue;
-        if (id == TEST_LP) ci_set_label(q, CONT_PT_LP, "LP");
-        else if (id == TEST_BP) ci_set_label(q, CONT_PT_BP, "BP");
-        else {
-            ci_set_label(q, CONT_PT_USER, s->labels[id]);
-            q->pub.user_index = id;
-        }
-        sp[nsp++] = q;
+    r = special_points(s, b, xe, he, sp, &nsp);
+    if (r != 0) {
+        free(c);
+        ci_pt_free(xe);
+        s->stop_reason = CONT_STOP_ERROR;
+        return r;
     }
-    /* an LP and a BP at the same place are one BP (pitchfork crossed along
-     * its bifurcating branch) */
-    for (int i = 0; i < nsp; i++) {
-        if (sp[i]->pub.type != CONT_PT_LP) continue;
-        for (int j = 0; j < nsp; j++) {
-            if (sp[j]->pub.type != CONT_PT_BP) continue;
-            double tol = fmax(1e3 * s->loc_tol * (1.0 + s->theta * fabs(sp[j]->x[n])),
-                              fmax(MERGE_FRAC * he,
-                                   2.0 * (sp[i]->pub.loc_err + sp[j]->pub.loc_err)));
-            if (fabs(sp[i]->h - sp[j]->h) <= tol) {
-                ci_pt_free(sp[i]);
-                sp[i] = sp[--nsp];
-                i--;
-                break;
-            }
-        }
-    }
-    /* order by arclength */
-    for (int i = 1; i < nsp; i++)
-        for (int j = i; j > 0 && sp[j]->h < sp[j - 1]->h; j--) {
-            cpt *tmp = sp[j]; sp[j] = sp[j - 1]; sp[j - 1] = tmp;
-        }
     double tnow = ci_since(&s->t_start);
     for (int i = 0; i < nsp; i++) {
         sp[i]->pub.s = s->s_arc + sp[i]->h;

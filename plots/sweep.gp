@@ -28,7 +28,8 @@ ny = cy > 0 ? distinct(cy) : 1
 failed(c) = strcol(cs) eq "0" ? NaN : column(c)
 set grid
 set xlabel xk noenhanced
-set title sprintf("%s: %s", dir, col) noenhanced
+study = system(sprintf("sed -n '1s/.*(study \\(.*\\))$/\\1/p' '%s'", file))
+set title sprintf("%s sweep (%s): %s", study, dir, col) noenhanced
 stats file using (column(cx)) nooutput
 if (STATS_min > 0 && STATS_max > 50 * STATS_min) { set logscale x }
 do for [t in "pngcairo pdfcairo"] {
@@ -45,6 +46,7 @@ do for [t in "pngcairo pdfcairo"] {
         set ylabel yk noenhanced
         set cblabel col noenhanced
         set palette rgbformulae 33,13,10
+        set offsets graph 0.04, graph 0.04, graph 0.04, graph 0.04
         set bmargin 6
         set key at screen 0.45, 0.03 center horizontal
         ps = 25.0 / (nx > ny ? nx : ny) + 0.8

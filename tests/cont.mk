@@ -1,6 +1,9 @@
 # tests/cont.mk: unit tests of the continuation engine (continuation/)
-check_PROGRAMS += tests/test_cont
-TESTS += tests/test_cont
-tests_test_cont_SOURCES = tests/test_cont.c
+check_PROGRAMS += tests/test_cont tests/test_cont_det
+TESTS += tests/test_cont tests/test_cont_det
+tests_test_cont_SOURCES = tests/test_cont.c tests/cont_test.h
 tests_test_cont_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_cont_LDADD = $(SF_TEST_LIBS)
+tests_test_cont_det_SOURCES = tests/test_cont_det.c tests/cont_test.h
+tests_test_cont_det_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_cont_det_LDADD = $(SF_TEST_LIBS)

@@ -32,6 +32,11 @@ include tests/cli.mk
 include tests/bifurcation.mk
 include tests/pattern.mk
 include tests/boundary.mk
+include tests/multibp.mk
 # sweeps, serially and under mpirun (src/analysis/sweep.h, docs/sweep.md)
-TESTS += tests/test_sweep.sh
+check_PROGRAMS += tests/test_sweep_plan
+TESTS += tests/test_sweep_plan tests/test_sweep.sh
+tests_test_sweep_plan_SOURCES = tests/test_sweep_plan.c
+tests_test_sweep_plan_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_sweep_plan_LDADD = $(SF_TEST_LIBS)
 EXTRA_DIST += tests/test_sweep.sh

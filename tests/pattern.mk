@@ -8,3 +8,14 @@ TESTS += tests/test_pattern.sh
 EXTRA_DIST += tests/test_pattern.sh
 EXTRA_DIST += $(wildcard $(srcdir)/tests/bad/study_assignment_*.cfg) \
 	$(wildcard $(srcdir)/tests/bad/study_assignment_*.expect)
+check_PROGRAMS += tests/test_fold
+TESTS += tests/test_fold
+tests_test_fold_SOURCES = tests/test_fold.c
+tests_test_fold_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_fold_LDADD = $(SF_TEST_LIBS)
+TESTS += tests/test_fold.sh
+EXTRA_DIST += tests/test_fold.sh tests/fold/README.md $(wildcard $(srcdir)/tests/fold/*.fold) \
+	$(wildcard $(srcdir)/tests/bad/fold_*.fold) $(wildcard $(srcdir)/tests/bad/fold_*.expect)
+TESTS += tests/test_fold_npm.sh
+EXTRA_DIST += tests/test_fold_npm.sh tests/fold_check.js
+EXTRA_DIST += plots/shape.gp plots/vtp2gp.awk plots/pattern-pictures.sh

@@ -1,9 +1,12 @@
-# tests/study.mk: the study reader (src/pattern/study.c)
-check_PROGRAMS += tests/test_study
-TESTS += tests/test_study
-tests_test_study_SOURCES = tests/test_study.c
+# tests/study.mk: the study reader (src/pattern/study*.c)
+check_PROGRAMS += tests/test_study tests/test_study_set
+TESTS += tests/test_study tests/test_study_set
+tests_test_study_SOURCES = tests/test_study.c tests/study_test.h
 tests_test_study_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_study_LDADD = $(SF_TEST_LIBS)
+tests_test_study_set_SOURCES = tests/test_study_set.c tests/study_test.h
+tests_test_study_set_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_study_set_LDADD = $(SF_TEST_LIBS)
 # studies, broken studies and the manual read by the test (from SF_SRCDIR)
 EXTRA_DIST += docs/study-format.md \
 	studies/fold1.cfg \

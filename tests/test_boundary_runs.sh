@@ -14,7 +14,7 @@ src=${SF_SRCDIR:-$(dirname "$0")/..}
 bin=${SF_BUILDDIR:-.}/src/smoothfold
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-echo "1..7"
+echo "1..8"
 # rows of a table as "name=value" per column, for awk -v
 rows() { grep -v '^#' "$1"; }
 
@@ -115,4 +115,26 @@ if [ $rc -ne 0 ] && [ "$(wc -l <"$tmp/log4")" -eq 1 ] && grep -q 'analysis.secon
     echo "ok 7 - bad analysis.second: exit $rc, $(cat "$tmp/log4")"
 else
     echo "not ok 7 - bad analysis.second: exit $rc, output: $(cat "$tmp/log4")"
+fi
+
+# 8: the second parameter may be any numeric key: snap1's limit point over
+# the load factor (analysis.load) has its cusp where the load is the
+# buckling load of the flat strip, k / (b + w/3) / P (fold1-buckle's branch
+# point), with t = 0 and theta0 = 0
+if "$bin" run "$src/studies/snap1-boundary.cfg" -o "$tmp/b5" -q --set 'analysis.second="analysis.load"' \
+        --set analysis.second_min=0.3 --set analysis.second_max=2.0 >"$tmp/log5" 2>&1; then
+    msg=$(rows "$tmp/b5/boundary.tsv" | awk -F'\t' "$FUN BEGIN { $SNAP }"'
+        NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+        $c["type"] == "CP" { ncp++; q = $c["second"]; p = $c["p"]; t = $c["theta1"] }
+        END { want = 15.2e6 * D1 * L / w / (b + w / 3) / P
+              if (ncp != 1) print ncp + 0 " cusps, expected 1"
+              else if (abs(q - want) > 1e-9 * want || abs(p) > 1e-8 || abs(t) > 1e-8)
+                  printf "cusp at load %.12g, p = %g, t = %g; expected %.12g, 0, 0\n", q, p, t, want
+              else printf "ok %.12g %.12g\n", q, want }')
+    case $msg in
+    ok*) set -- $msg; echo "ok 8 - snap1-boundary over analysis.load: cusp at load factor $2, closed form k/(b + w/3)/P = $3" ;;
+    *) echo "not ok 8 - snap1-boundary over analysis.load: $msg" ;;
+    esac
+else
+    echo "not ok 8 - snap1-boundary over analysis.load: run failed: $(cat "$tmp/log5")"
 fi

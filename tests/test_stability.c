@@ -64,8 +64,13 @@ static void tsv_read(tsv *t, const char *path)
         size_t L = strlen(line);
         while (L && (line[L - 1] == '\n' || line[L - 1] == '\r')) line[--L] = '\0';
         if (line[0] == '#') {
-            strncat(t->header, line, sizeof t->header - strlen(t->header) - 2);
-            strcat(t->header, "\n");
+            /* keep what fits (a run with many branches has long notes) */
+            size_t used = strlen(t->header), room = sizeof t->header - used;
+            if (room > 2) {
+                size_t k = L < room - 2 ? L : room - 2;
+                memcpy(t->header + used, line, k);
+                memcpy(t->header + used + k, "\n", 2);
+            }
             continue;
         }
         if (L == 0) continue; /* block separator */

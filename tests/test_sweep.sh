@@ -10,7 +10,7 @@ src=${SF_SRCDIR:-$(dirname "$0")/..}
 bin=${SF_BUILDDIR:-.}/src/smoothfold
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-echo "1..10"
+echo "1..11"
 # mpirun refuses root unless told (CI containers run as root)
 if [ "$(id -u)" = 0 ]; then
     OMPI_ALLOW_RUN_AS_ROOT=1; OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
@@ -197,3 +197,18 @@ msg=$(rows "$tmp/crash/sweep.tsv" | awk -F'\t' '$3 == 139 && $4 ~ /^killed by si
     END { print k + 0, ok + 0 }')
 [ $st = 0 ] && [ "$msg" = "1 5" ] && echo "ok 10 - crashed variant recorded (status 139, signal 11), the other 5 ran" \
     || echo "not ok 10 - crash: exit $st, [crashed ok] = [$msg] $(cat "$tmp/log10")"
+
+# 11: a second sweep into a directory while the first still runs there is
+# refused (DIR/sweep.lock), and the first is not disturbed
+"$bin" sweep "$src/studies/square4.cfg" $long -q -o "$tmp/lock" >"$tmp/log11" 2>&1 &
+pid=$!
+i=0
+while [ ! -f "$tmp/lock/sweep.tsv" ] && [ $i -lt 500 ]; do sleep 0.01; i=$((i + 1)); done
+e=$("$bin" sweep "$src/studies/square4.cfg" $long -q -o "$tmp/lock" 2>&1); s2=$?
+wait $pid; s1=$?
+if [ $s1 = 0 ] && [ $s2 = 1 ] && echo "$e" | grep -q "sweep.lock: another sweep is running in $tmp/lock" \
+    && [ "$(complete "$tmp/lock/sweep.tsv")" = 24 ]; then
+    echo "ok 11 - a second sweep into a busy directory is refused (status 1); the first completes"
+else
+    echo "not ok 11 - lock: first exit $s1, second exit $s2: $e"
+fi

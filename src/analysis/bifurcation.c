@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "bifurcation.h"
+#include "multibp.h"
 
 void sf_bif_init(sf_bif *b, sf_equil *eq, sf_stab *st, double tol, int max_depth,
                  const long *nrows, const sf_bif_hooks *h)
@@ -53,7 +54,9 @@ int sf_bif_add_bp(sf_bif *b, const cont_point *pt, sf_error *err)
 {
     sf_equil *eq = b->eq;
     int n = eq->n;
-    if (!pt->ty || b->depth >= b->max_depth) return 0;
+    int mult = 1;
+    if (!strncmp(pt->label, "BP", 2) && pt->label[2]) mult = atoi(pt->label + 2);
+    if ((!pt->ty && mult < 2) || b->depth >= b->max_depth) return 0;
     for (int i = 0; i < b->nbp; i++) {
         const sf_bif_bp *k = &b->bp[i];
         double d = fabs(k->p - pt->p) / (1.0 + fabs(pt->p));
@@ -77,9 +80,11 @@ int sf_bif_add_bp(sf_bif *b, const cont_point *pt, sf_error *err)
         return sf_fail(err, SF_ENOMEM, "out of memory");
     }
     memcpy(k->y, pt->y, sizeof(double) * (size_t)n);
-    memcpy(k->ty, pt->ty, sizeof(double) * (size_t)n);
+    if (pt->ty) memcpy(k->ty, pt->ty, sizeof(double) * (size_t)n);
+    else memset(k->ty, 0, sizeof(double) * (size_t)n);
     k->p = pt->p;
-    k->tp = pt->tp;
+    k->tp = pt->ty ? pt->tp : 0.0;
+    k->mult = mult;
     k->depth = b->depth;
     k->branch = b->branch;
     k->point = *b->nrows;
@@ -348,7 +353,8 @@ int sf_bif_check(sf_bif *b, const cont_point *pt, double s_offset, int first, sf
                     "%.3g in arclength%s", q.label, row,
                     b->branch, q.p, mult, mult > 1 ? "s" : "", mult > 1 ? "" : "es", row_a,
                     row + 1, mult > 1 ? "a multiple one" : "two crossings in one step",
-                    mult > 1 ? "; a multiple branch point: its branches are not followed" : "",
+                    mult > 1 ? "; a multiple branch point (its branches: from the reduced equations, "
+                               "multibp.h, within analysis.branch_depth)" : "",
                     q.loc_err, q.loc_err > 1e-6 * (1.0 + fabs(q.p))
                                    ? " (Newton at fixed p does not converge closer to the singular point)"
                                    : "");
@@ -430,6 +436,130 @@ int sf_bif_refine(sf_bif *b, const cont_point *pt, double s_offset, int first, c
 
 static int failed(const sf_bif *b) { return b->h.failed && b->h.failed(b->h.ctx); }
 
+/* What identifies a branch up to the sheet's symmetries, at its first
+ * point: p, the energy, the coordinates' magnitudes sorted. */
+typedef struct bif_sig {
+    int branch;
+    double p, Pi;
+    double *y, *mag;      /* state (n), sorted |q| (nq) */
+} bif_sig;
+
+static int cmp_dbl(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static int sig_close(const bif_sig *a, const bif_sig *b, int nq, int n, int same_state)
+{
+    double tol = 1e-6;
+    if (fabs(a->p - b->p) > tol * (1.0 + fabs(a->p))) return 0;
+    if (same_state) {
+        for (int i = 0; i < n; i++)
+            if (fabs(a->y[i] - b->y[i]) > tol * (1.0 + fabs(a->y[i]))) return 0;
+        return 1;
+    }
+    if (fabs(a->Pi - b->Pi) > tol * (1e-12 + fabs(a->Pi))) return 0;
+    for (int i = 0; i < nq; i++)
+        if (fabs(a->mag[i] - b->mag[i]) > tol * (1e-3 + fabs(a->mag[i]))) return 0;
+    return 1;
+}
+
+/* The branches through a multiple branch point (multibp.h). */
+static int switch_multi(sf_bif *b, cont_solver *cs, const sf_bif_bp *bp, sf_error *err)
+{
+    sf_equil *eq = b->eq;
+    int n = eq->n, nq = eq->nq, rc = SF_OK;
+    sf_mbp M;
+    sf_error e;
+    sf_error_clear(&e);
+    if (sf_mbp_directions(eq, bp->y, bp->p, bp->mult, 0.02, 0.05 * (1.0 + fabs(bp->p)), &M, &e)) {
+        note(b, "BP%d at row %ld (branch %d, p = %.10g): no switching: %s", bp->mult, bp->point,
+             bp->branch, bp->p, e.msg);
+        sf_mbp_free(&M);
+        return SF_OK;
+    }
+    note(b, "BP%d at row %ld (branch %d, p = %.10g): Lyapunov-Schmidt reduction onto its "
+         "two-dimensional kernel (eigenvalues of Jy %.3g and %.3g, next %.3g); %s reduced "
+         "bifurcation equations (largest quadratic coefficient %.3g, cubic %.3g): %d isolated "
+         "solutions (rays), branches %d..%d", bp->mult, bp->point, bp->branch, bp->p, M.eig[0],
+         M.eig[1], M.eig[2], M.order == 2 ? "quadratic + cubic" : "cubic", M.bnorm, M.cnorm, M.ndir,
+         b->nbranches + 1, b->nbranches + M.ndir);
+    bif_sig *sig = calloc((size_t)M.ndir, sizeof *sig);
+    double *sbuf = malloc(sizeof(double) * (size_t)M.ndir * (size_t)(n + nq + 1));
+    int *cls = calloc((size_t)M.ndir + 1, sizeof(int)), ns = 0;
+    if (!sig || !sbuf || !cls) {
+        free(sig); free(sbuf); free(cls); sf_mbp_free(&M);
+        return sf_fail(err, SF_ENOMEM, "out of memory");
+    }
+    for (int k = 0; k < M.ndir && !rc; k++) {
+        if (b->nbranches >= SF_BIF_MAX_BRANCHES) {
+            note(b, "more than %d branches: not following the rest", SF_BIF_MAX_BRANCHES);
+            break;
+        }
+        if (b->h.begin_branch && (rc = b->h.begin_branch(b->h.ctx, bp, b->nbranches + 1))) break;
+        b->nbranches++;
+        b->branch = b->nbranches;
+        b->depth = bp->depth + 1;
+        long first = *b->nrows;
+        int st = cont_start_tangent(cs, M.y + (size_t)k * n, M.p[k], M.ty + (size_t)k * n, M.tp[k]);
+        if (failed(b)) { rc = err->code; break; }
+        if (st != CONT_OK) {
+            note(b, "branch %d (from the BP%d at row %ld, ray at %.6f rad in its kernel) did not "
+                 "start: %s", b->branch, bp->mult, bp->point, M.theta[k], cont_errmsg(cs));
+            continue;
+        }
+        const cont_point *pt = cont_get_point(cs);
+        bif_sig *g = &sig[ns];
+        g->branch = b->branch;
+        g->p = pt->p;
+        g->y = sbuf + (size_t)ns * (n + nq + 1);
+        g->mag = g->y + n;
+        memcpy(g->y, pt->y, sizeof(double) * (size_t)n);
+        for (int i = 0; i < nq; i++) g->mag[i] = fabs(pt->y[i]);
+        qsort(g->mag, (size_t)nq, sizeof(double), cmp_dbl);
+        double rr, rt;
+        sf_equil_report(eq, pt->y, pt->p, &g->Pi, &rr, &rt);
+        int dup = -1;
+        for (int j = 0; j < ns && dup < 0; j++)
+            if (sig_close(&sig[j], g, nq, n, 1)) dup = j;
+        if (dup >= 0) {
+            note(b, "branch %d (from the BP%d at row %ld) duplicates branch %d: not followed",
+                 b->branch, bp->mult, bp->point, sig[dup].branch);
+            continue;
+        }
+        cls[ns] = ns;
+        for (int j = 0; j < ns; j++)
+            if (sig_close(&sig[j], g, nq, n, 0)) { cls[ns] = cls[j]; break; }
+        ns++;
+        st = cont_run(cs);
+        if (failed(b)) { rc = err->code; break; }
+        if (st != CONT_OK && st != CONT_DONE)
+            note(b, "branch %d (from the BP%d at row %ld) stopped after %ld points: %s", b->branch,
+                 bp->mult, bp->point, *b->nrows - first, cont_errmsg(cs));
+    }
+    if (!rc && ns > 0) {
+        char line[900];
+        int len = 0, ncls = 0;
+        for (int c = 0; c < ns; c++) {
+            if (cls[c] != c) continue;
+            ncls++;
+            len += snprintf(line + len, sizeof line - (size_t)len, " [");
+            for (int j = c; j < ns && len < (int)sizeof line - 16; j++)
+                if (cls[j] == c) len += snprintf(line + len, sizeof line - (size_t)len, "%s%d",
+                                                 line[len - 1] == '[' ? "" : " ", sig[j].branch);
+            len += snprintf(line + len, sizeof line - (size_t)len, "]");
+        }
+        note(b, "BP%d at row %ld: %d distinct branches in %d classes of symmetric images (same "
+             "p, energy and sorted |q| at their first points):%s", bp->mult, bp->point, ns, ncls, line);
+    }
+    free(sig);
+    free(sbuf);
+    free(cls);
+    sf_mbp_free(&M);
+    return rc;
+}
+
 /* (bifurcation.h) */
 int sf_bif_switch(sf_bif *b, cont_solver *cs, sf_error *err)
 {
@@ -441,6 +571,11 @@ int sf_bif_switch(sf_bif *b, cont_solver *cs, sf_error *err)
     while (!rc && b->nextbp < b->nbp) {
         sf_bif_bp bp = b->bp[b->nextbp++];
         double tp2;
+        if (bp.mult >= 2) {
+            rc = switch_multi(b, cs, &bp, err);
+            b->bp[b->nextbp - 1].switched = 1;
+            continue;
+        }
         if (cont_branch_direction(cs, bp.y, bp.p, bp.ty, bp.tp, t2, &tp2) != CONT_OK) {
             note(b, "branch point at row %ld (branch %d, p = %.10g): no switching: %s",
                         bp.point, bp.branch, bp.p, cont_errmsg(cs));

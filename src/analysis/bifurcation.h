@@ -16,7 +16,8 @@
  * eigenvalue, by regula falsi (Illinois) on p with fixed-p solves, and
  * handed to the caller as a point of its own: type BP for one eigenvalue,
  * BPk for k eigenvalues crossing together (a k-dimensional kernel: a
- * multiple branch point, whose branches are not followed).  A change that
+ * multiple branch point, whose branches, for k = 2, come from the reduced
+ * bifurcation equations of multibp.h).  A change that
  * cannot be located is stated in a note.
  *
  * The caller (src/cli/run.c) owns the output: located points go back to it
@@ -42,6 +43,7 @@ typedef struct sf_bif_bp {
     int branch;           /* that branch */
     long point;           /* its row in the output */
     int switched;         /* 1 once the branches through it were started */
+    int mult;             /* kernel dimension: 1, or k for a "BPk" (multibp.h) */
 } sf_bif_bp;
 
 /* What the bookkeeping hands back to its caller.  ctx is passed to each;
@@ -130,16 +132,22 @@ int sf_bif_refine(sf_bif *b, const cont_point *pt, double s_offset, int first, c
                   double *ybuf);
 
 /* Remember the branch point pt (with its tangent) for switching, unless
- * it is one already known or the branch is at the largest depth.  0 or
- * SF_ENOMEM. */
+ * it is one already known or the branch is at the largest depth.  A
+ * multiple one (label "BPk", k >= 2) needs no tangent: its branches come
+ * from the reduced equations (multibp.h).  0 or SF_ENOMEM. */
 int sf_bif_add_bp(sf_bif *b, const cont_point *pt, sf_error *err);
 
 /* Follow the branches through the branch points met so far, breadth
  * first, with the path's solver cs: at each simple branch point, the new
  * direction t2 from cont_branch_direction, then one branch along +t2 and
  * one along -t2 (hooks begin_branch, then the points through cs's
- * callback).  A branch that fails is kept up to where it stopped and
- * noted; it does not end the run. */
+ * callback); at a multiple one (kernel dimension 2), one branch along each
+ * solution of the reduced bifurcation equations (multibp.h), its first
+ * point compared with the others' to recognise duplicates (same state:
+ * not followed) and symmetric images (same p, energy and sorted |q|:
+ * followed, and grouped in a note "classes of symmetric images").  A
+ * branch that fails is kept up to where it stopped and noted; it does not
+ * end the run. */
 int sf_bif_switch(sf_bif *b, cont_solver *cs, sf_error *err);
 
 #endif

@@ -120,6 +120,57 @@ static int split_columns_line(const char *val, char names[][SF_NAME_MAX], int ma
     return k;
 }
 
+/* A data row t (file line ln) of a reference file: its values appended to
+ * r->v (*rcap rows allocated). */
+static int read_row(cmp_ref *r, char *t, int ln, int *rcap, sf_error *err)
+{
+    if (r->nrow == *rcap) {
+        *rcap = *rcap ? 2 * *rcap : 32;
+        double *v = realloc(r->v, sizeof(double) * (size_t)*rcap * r->ncol);
+        int *l = realloc(r->line, sizeof(int) * (size_t)*rcap);
+        if (v) r->v = v;
+        if (l) r->line = l;
+        if (!v || !l) return sf_fail(err, SF_ENOMEM, "out of memory");
+    }
+    int rc = SF_OK;
+    char *p = t;
+    for (int j = 0; j < r->ncol && !rc; j++) {
+        char *end = strchr(p, ',');
+        if (!end && j < r->ncol - 1) {
+            rc = sf_fail(err, SF_EINPUT, "%s:%d: expected %d values, got %d", r->path, ln, r->ncol, j + 1);
+            break;
+        }
+        char fld[128];
+        size_t fl = end ? (size_t)(end - p) : strlen(p);
+        snprintf(fld, sizeof fld, "%.*s", (int)(fl < sizeof fld ? fl : sizeof fld - 1), p);
+        trim(fld);
+        char *e;
+        errno = 0;
+        double x = fld[0] ? strtod(fld, &e) : 0.0;
+        if (!fld[0] || *e) {
+            rc = sf_fail(err, SF_EINPUT, "%s:%d: column %d (%s): '%s' is not a number", r->path, ln, j + 1,
+                         r->colname[j], fld);
+            break;
+        }
+        if (!isfinite(x)) {
+            rc = sf_fail(err, SF_EINPUT, "%s:%d: column %d (%s): not a finite number (%s)", r->path, ln, j + 1,
+                         r->colname[j], fld);
+            break;
+        }
+        r->v[(size_t)r->nrow * r->ncol + j] = x;
+        p = end ? end + 1 : p + fl;
+        if (j == r->ncol - 1 && end) {
+            int extra = 1;
+            for (char *q = end + 1; *q; q++) extra += *q == ',';
+            rc = sf_fail(err, SF_EINPUT, "%s:%d: expected %d values, got %d", r->path, ln, r->ncol,
+                         r->ncol + extra);
+        }
+    }
+    if (rc) return rc;
+    r->line[r->nrow++] = ln;
+    return SF_OK;
+}
+
 int cm_read_reference(cmp_ref *r, sf_error *err)
 {
     FILE *f = fopen(r->path, "r");
@@ -223,49 +274,8 @@ int cm_read_reference(cmp_ref *r, sf_error *err)
             continue;
         }
         /* a data row */
-        if (r->nrow == rcap) {
-            rcap = rcap ? 2 * rcap : 32;
-            double *v = realloc(r->v, sizeof(double) * (size_t)rcap * r->ncol);
-            int *l = realloc(r->line, sizeof(int) * (size_t)rcap);
-            if (v) r->v = v;
-            if (l) r->line = l;
-            if (!v || !l) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); break; }
-        }
-        char *p = t;
-        for (int j = 0; j < r->ncol && !rc; j++) {
-            char *end = strchr(p, ',');
-            if (!end && j < r->ncol - 1) {
-                rc = sf_fail(err, SF_EINPUT, "%s:%d: expected %d values, got %d", r->path, ln, r->ncol, j + 1);
-                break;
-            }
-            char fld[128];
-            size_t fl = end ? (size_t)(end - p) : strlen(p);
-            snprintf(fld, sizeof fld, "%.*s", (int)(fl < sizeof fld ? fl : sizeof fld - 1), p);
-            trim(fld);
-            char *e;
-            errno = 0;
-            double x = fld[0] ? strtod(fld, &e) : 0.0;
-            if (!fld[0] || *e) {
-                rc = sf_fail(err, SF_EINPUT, "%s:%d: column %d (%s): '%s' is not a number", r->path, ln, j + 1,
-                             r->colname[j], fld);
-                break;
-            }
-            if (!isfinite(x)) {
-                rc = sf_fail(err, SF_EINPUT, "%s:%d: column %d (%s): not a finite number (%s)", r->path, ln, j + 1,
-                             r->colname[j], fld);
-                break;
-            }
-            r->v[(size_t)r->nrow * r->ncol + j] = x;
-            p = end ? end + 1 : p + fl;
-            if (j == r->ncol - 1 && end) {
-                int extra = 1;
-                for (char *q = end + 1; *q; q++) extra += *q == ',';
-                rc = sf_fail(err, SF_EINPUT, "%s:%d: expected %d values, got %d", r->path, ln, r->ncol,
-                             r->ncol + extra);
-            }
-        }
+        rc = read_row(r, t, ln, &rcap, err);
         if (rc) break;
-        r->line[r->nrow++] = ln;
     }
     free(line);
     if (!rc && ferror(f)) rc = sf_fail(err, SF_EIO, "%s: read error", r->path);

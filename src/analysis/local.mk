@@ -15,4 +15,5 @@ src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibri
 	src/analysis/dynamics.c src/analysis/dynamics.h src/analysis/dynamics_impl.h \
 	src/analysis/dynamics_dae.c \
 	src/analysis/boundary.c src/analysis/boundary.h \
-	src/analysis/sweep.c src/analysis/sweep_run.c src/analysis/sweep.h
+	src/analysis/sweep.c src/analysis/sweep_run.c src/analysis/sweep.h \
+	src/analysis/multibp.c src/analysis/multibp.h

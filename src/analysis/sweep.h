@@ -79,11 +79,14 @@ typedef struct sf_sweep {
     char **rows;        /* nvariants rows of sweep.tsv, NULL: not finished */
     int nfinished;
     int nresumed;       /* finished before this run (resume) */
+    int lock_fd;        /* DIR/sweep.lock, locked while the sweep runs */
 } sf_sweep;
 
-/* Create dir, write DIR/variants.tsv, or check that an existing one holds
- * the same plan (else SF_EINPUT: another sweep is there), take over the
- * rows of finished variants, write DIR/sweep.tsv. */
+/* Create dir, lock it (DIR/sweep.lock, flock: a second sweep into the
+ * same directory at the same time is SF_EINPUT), write DIR/variants.tsv,
+ * or check that an existing one holds the same plan (else SF_EINPUT:
+ * another sweep is there), take over the rows of finished variants, write
+ * DIR/sweep.tsv. */
 int sf_sweep_open(sf_sweep *sw, const sf_sweep_plan *pl, const char *dir,
                   sf_error *err);
 void sf_sweep_close(sf_sweep *sw);

@@ -9,9 +9,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "outbuf.h"
 
@@ -133,9 +135,31 @@ static void resume_row(sf_sweep *sw, int v)
     sf_outbuf_free(&pre);
 }
 
+/* One sweep at a time in a directory: two would run the same variants
+ * and overwrite each other's table. */
+static int lock_dir(sf_sweep *sw, sf_error *err)
+{
+    char path[1200];
+    snprintf(path, sizeof path, "%s/sweep.lock", sw->dir);
+    sw->lock_fd = open(path, O_RDWR | O_CREAT, 0644);
+    if (sw->lock_fd < 0) return sf_fail(err, SF_EIO, "%s: cannot open: %s", path, strerror(errno));
+    if (flock(sw->lock_fd, LOCK_EX | LOCK_NB) != 0) {
+        int e = errno;
+        close(sw->lock_fd);
+        sw->lock_fd = -1;
+        if (e == EWOULDBLOCK)
+            return sf_fail(err, SF_EINPUT, "%s: another sweep is running in %s (started twice, or "
+                           "under a launcher whose MPI smoothfold-sweep-mpi does not speak?)",
+                           path, sw->dir);
+        return sf_fail(err, SF_EIO, "%s: cannot lock: %s", path, strerror(e));
+    }
+    return SF_OK;
+}
+
 int sf_sweep_open(sf_sweep *sw, const sf_sweep_plan *pl, const char *dir, sf_error *err)
 {
     memset(sw, 0, sizeof *sw);
+    sw->lock_fd = -1;
     sw->plan = pl;
     snprintf(sw->dir, sizeof sw->dir, "%s", dir);
     sw->rows = calloc((size_t)pl->nvariants, sizeof *sw->rows);
@@ -145,8 +169,9 @@ int sf_sweep_open(sf_sweep *sw, const sf_sweep_plan *pl, const char *dir, sf_err
         return sf_fail(err, SF_ENOMEM, "sweep: out of memory");
     }
     char path[1200];
-    snprintf(path, sizeof path, "%s/variants.tsv", dir);
     int rc = sf_mkdir_p(dir, err);
+    if (!rc) rc = lock_dir(sw, err);
+    snprintf(path, sizeof path, "%s/variants.tsv", dir);
     char *old = rc ? NULL : read_text(path);
     if (!rc && old && strcmp(old, text) != 0)
         rc = sf_fail(err, SF_EINPUT, "%s: %s holds another sweep (other study file, --vary, "
@@ -162,6 +187,8 @@ int sf_sweep_open(sf_sweep *sw, const sf_sweep_plan *pl, const char *dir, sf_err
 
 void sf_sweep_close(sf_sweep *sw)
 {
+    if (sw->lock_fd >= 0) close(sw->lock_fd);   /* releases the lock */
+    sw->lock_fd = -1;
     if (sw->rows && sw->plan)
         for (int v = 0; v < sw->plan->nvariants; v++) free(sw->rows[v]);
     free(sw->rows);

@@ -236,7 +236,10 @@ int sf_cmd_pattern(int argc, char **argv, sf_error *err)
             }
             else rc = cmd_pattern(argv, &p, err);
         } else if (strcmp(argv[0], "import") == 0) {
-            rc = sf_cmd_import(argc, argv, p.output, p.unit, p.frame, &p.s, p.nset, p.sets, err);
+            rc = sf_cmd_import(argc, argv, p.cmdline, p.output, p.unit, p.frame, &p.s, p.nset, p.sets, err);
+        } else if (!ends_with(p.output, ".fold")) {
+            sf_fail(err, SF_EINPUT, "export: -o %s: the output must end in .fold", p.output);
+            rc = SF_CMD_USAGE;
         } else {
             rc = sf_cmd_export(argc, argv, p.output, p.nset, p.sets, err);
         }

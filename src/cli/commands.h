@@ -44,7 +44,7 @@ int sf_cmd_is_pattern(const char *cmd);
 int sf_cmd_pattern(int argc, char **argv, sf_error *err);
 /* cmd_fold.c: import a FOLD file as a study; export a study as FOLD. */
 struct sf_cp_study_opts;
-int sf_cmd_import(int argc, char **argv, const char *output, const char *unit,
+int sf_cmd_import(int argc, char **argv, const char *cmdline, const char *output, const char *unit,
                   int frame, struct sf_cp_study_opts *so, int nset,
                   const char **sets, sf_error *err);
 int sf_cmd_export(int argc, char **argv, const char *output, int nset,

@@ -27,6 +27,7 @@
 #include "scene.h"
 #include "stability.h"
 #include "study.h"
+#include "fold.h"
 #include "vtk.h"
 
 #ifndef PACKAGE_VERSION
@@ -45,6 +46,7 @@ typedef struct run_ctx {
     sf_mpoint *probes;
     sf_outbuf rows, stats, special, header;
     sf_pvd pvd;
+    sf_foldrec foldrec;   /* DIR/folded.fold: one frame per shape (fold.h) */
     int nshapes;
     double p_start, p_end, last_shape_p, shape_dp;
     int branch_first;     /* the next point starts a branch */
@@ -220,7 +222,7 @@ static int write_point(run_ctx *r, const cont_point *pt)
             branch_note(r, "%s at row %ld (branch %d, p = %.10g) located only to within %.3g in "
                         "arclength: the corrector left the branch while bisecting", pt->label,
                         r->npoints, r->bif.branch, pt->p, pt->loc_err);
-        if (strcmp(pt->label, "BP") == 0 && sf_bif_add_bp(&r->bif, pt, r->err)) {
+        if (strncmp(pt->label, "BP", 2) == 0 && sf_bif_add_bp(&r->bif, pt, r->err)) {
             r->failed = 1;
             return 1;
         }
@@ -236,7 +238,9 @@ static int write_point(run_ctx *r, const cont_point *pt)
         snprintf(rel, sizeof rel, "shapes/shape_%04ld.vtp", r->npoints);
         snprintf(path, sizeof path, "%s/%s", r->dir, rel);
         if (sf_vtk_write_shape(m, pt->y, s->samples, path, r->err) ||
-            sf_pvd_add(&r->pvd, pt->p, rel, r->err)) {
+            sf_pvd_add(&r->pvd, pt->p, rel, r->err) ||
+            sf_foldrec_add(&r->foldrec, pt->y, pt->p, load, r->do_stab ? r->stab.res.stable : -1,
+                           r->bif.branch, r->err)) {
             r->failed = 1;
             return 1;
         }
@@ -334,6 +338,44 @@ static void stage_segment(run_ctx *r, double p, int dir, double lo, double hi)
     r->eq.ramp_stage = k;
     r->seg_end = (dir > 0 ? e >= hi : e <= lo) ? r->p_end : e;
     cont_set_prange(r->solver, dir > 0 ? lo : e, dir > 0 ? e : hi);
+}
+
+/* Follow the path from its start point: one load stage after the other
+ * when the loads come in stages (staged), then the branches through the
+ * branch points met (bifurcation.h).  y0: scratch of n values, freed here. */
+static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, double hi)
+{
+    cont_solver *cs = r->solver;
+    const sf_study *s = &r->sc->study;
+    sf_equil *eq = &r->eq;
+    sf_error *err = r->err;
+    double end = r->p_end;
+    int rc = cont_run(cs);
+    while (staged && rc == CONT_DONE && !r->failed && r->seg_end != end &&
+           cont_stop_reason(cs) == (dir > 0 ? CONT_STOP_PMAX : CONT_STOP_PMIN)) {
+        /* next stage, from the last point */
+        const cont_point *last = cont_get_point(cs);
+        double pb = last->p;
+        r->s_offset += last->s;
+        memcpy(y0, last->y, (size_t)eq->n * sizeof *y0);
+        stage_segment(r, pb, dir, lo, hi);
+        r->skip_start = 1;
+        if (cont_start(cs, y0, pb, dir) != CONT_OK) {
+            r->skip_start = 0;
+            if (r->failed) break;
+            free(y0);
+            return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: no restart at "
+                           "the end of load stage %d (p = %g): %s", s->path, r->npoints,
+                           (int)lround(pb), pb, cont_errmsg(cs));
+        }
+        rc = cont_run(cs);
+    }
+    free(y0);
+    if (r->failed) return err->code;
+    if (rc == CONT_FAIL)
+        return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: %s", s->path,
+                       r->npoints, cont_errmsg(cs));
+    return sf_bif_switch(&r->bif, cs, err);
 }
 
 static int run_equilibrium(run_ctx *r)
@@ -492,32 +534,7 @@ static int run_equilibrium(run_ctx *r)
                             "solver.constraints = \"penalty\" is the paper's method)" : "");
         return explain_start_failure(r);
     }
-    rc = cont_run(cs);
-    while (staged && rc == CONT_DONE && !r->failed && r->seg_end != end &&
-           cont_stop_reason(cs) == (dir > 0 ? CONT_STOP_PMAX : CONT_STOP_PMIN)) {
-        /* next stage, from the last point */
-        const cont_point *last = cont_get_point(cs);
-        double pb = last->p;
-        r->s_offset += last->s;
-        memcpy(y0, last->y, (size_t)eq->n * sizeof *y0);
-        stage_segment(r, pb, dir, lo, hi);
-        r->skip_start = 1;
-        if (cont_start(cs, y0, pb, dir) != CONT_OK) {
-            r->skip_start = 0;
-            if (r->failed) break;
-            free(y0);
-            return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: no restart at "
-                           "the end of load stage %d (p = %g): %s", s->path, r->npoints,
-                           (int)lround(pb), pb, cont_errmsg(cs));
-        }
-        rc = cont_run(cs);
-    }
-    free(y0);
-    if (r->failed) return err->code;
-    if (rc == CONT_FAIL)
-        return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: %s", s->path,
-                       r->npoints, cont_errmsg(cs));
-    return sf_bif_switch(&r->bif, cs, err);
+    return follow_path(r, y0, staged, dir, lo, hi);
 }
 
 static int write_outputs(run_ctx *r)
@@ -577,6 +594,8 @@ static int write_outputs(run_ctx *r)
         if (sf_reactions_write(&r->reac, &r->eq, path, r->header.s, err)) return err->code;
     }
     if (r->nshapes > 0 && sf_pvd_write(&r->pvd, err)) return err->code;
+    snprintf(path, sizeof path, "%s/folded.fold", r->dir);
+    if (sf_foldrec_write(&r->foldrec, path, err)) return err->code;
     snprintf(path, sizeof path, "%s/study.cfg", r->dir);
     char hdr[256];
     snprintf(hdr, sizeof hdr, "merged study run by smoothfold %s (after --set overrides)",
@@ -630,6 +649,9 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
         char pvd[1100];
         snprintf(pvd, sizeof pvd, "%s/shapes.pvd", r.dir);
         sf_pvd_init(&r.pvd, pvd);
+        rc = sf_foldrec_init(&r.foldrec, &sc.model, err);
+    }
+    if (!rc) {
         sf_outbuf_printf(&r.header, "# smoothfold %s: %s, analysis %s\n", PACKAGE_VERSION,
                   sc.study.name, sc.study.analysis_type);
         rc = run_equilibrium(&r);
@@ -673,6 +695,7 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     if (r.do_stab) sf_stab_free(&r.stab);
     sf_reactions_free(&r.reac);
     sf_pvd_free(&r.pvd);
+    sf_foldrec_free(&r.foldrec);
     sf_scene_close(&sc);
     return rc;
 }

@@ -112,6 +112,7 @@ int sf_cmd_sweep(int argc, char **argv)
     sf_sweep_plan pl;
     sf_sweep sw;
     memset(&sw, 0, sizeof sw);
+    sw.lock_fd = -1;
     catch_signals();
     rc = sf_sweep_setup(&o, &pl, &sw, 1);
     int ran = 0;

@@ -156,8 +156,8 @@ int sf_sweep_finish(const sf_sweep *sw, int sig, int ran)
                 sig, sw->nfinished, pl->nvariants, sw->dir);
         return 128 + sig;
     }
-    printf("sweep %s: %d variants (%d run now, %d finished before), %d with a non-zero status; "
-           "results in %s/sweep.tsv\n", pl->study_name, pl->nvariants, ran, sw->nresumed,
-           sf_sweep_failed(sw), sw->dir);
+    printf("sweep %s: %d variant%s (%d run now, %d finished before), %d with a non-zero status; "
+           "results in %s/sweep.tsv\n", pl->study_name, pl->nvariants, pl->nvariants == 1 ? "" : "s",
+           ran, sw->nresumed, sf_sweep_failed(sw), sw->dir);
     return 0;
 }

@@ -131,8 +131,11 @@ static int own_work(dispatcher *d)
     return 1;
 }
 
-/* Answer one waiting message; 1 when there was one. */
-static int serve(dispatcher *d, int *active)
+/* Answer one waiting message; 1 when there was one.  A rank that asks
+ * when nothing is left waits (polling, idle) for the STOP sent once the
+ * last variant anywhere has finished: a rank in MPI_Finalize would spin
+ * on a core the last variants need. */
+static int serve(dispatcher *d, int *idle, int *nidle)
 {
     int flag;
     MPI_Status st;
@@ -147,21 +150,27 @@ static int serve(dispatcher *d, int *active)
     if (st.MPI_TAG == TAG_RESULT) record(d, row, st.MPI_SOURCE);
     free(row);
     int v = next_variant(d);
-    MPI_Send(&v, 1, MPI_INT, st.MPI_SOURCE, v < 0 ? TAG_STOP : TAG_TASK, MPI_COMM_WORLD);
-    if (v < 0) (*active)--;
+    if (v >= 0) MPI_Send(&v, 1, MPI_INT, st.MPI_SOURCE, TAG_TASK, MPI_COMM_WORLD);
+    else idle[(*nidle)++] = st.MPI_SOURCE;
     return 1;
 }
 
 static int rank0(sf_sweep *sw, const char *exe, int size, int quiet)
 {
     dispatcher d = {sw, exe, quiet, 0, 0, 0, 0.0, 0};
-    int active = size - 1;
+    int *idle = calloc((size_t)size, sizeof *idle), nidle = 0;
+    if (!idle) MPI_Abort(MPI_COMM_WORLD, 3);
     while (!stop_signal) {
-        int busy = serve(&d, &active);
+        int busy = serve(&d, idle, &nidle);
         busy |= own_work(&d);
-        if (!d.own && active == 0 && d.next >= sw->plan->nvariants) break;
+        if (!d.own && nidle == size - 1 && d.next >= sw->plan->nvariants) break;
         if (!busy) nap();
     }
+    if (!stop_signal) {
+        int none = -1;
+        for (int i = 0; i < nidle; i++) MPI_Send(&none, 1, MPI_INT, idle[i], TAG_STOP, MPI_COMM_WORLD);
+    }
+    free(idle);
     if (stop_signal) {
         if (d.own) {
             kill(d.own, SIGTERM);
@@ -217,11 +226,20 @@ int main(int argc, char **argv)
     int rank, size;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
+    const char *launched = getenv("PMI_SIZE");   /* e.g. MPICH's launcher */
+    if (size == 1 && launched && atoi(launched) > 1) {
+        fprintf(stderr, "smoothfold: sweep: the launcher started %s processes but MPI sees one: "
+                "smoothfold-sweep-mpi was built with OpenMPI, use OpenMPI's mpirun (or srun "
+                "--mpi=pmix)\n", launched);
+        MPI_Finalize();
+        return 2;
+    }
     sf_sweep_opts o;
     sf_sweep_plan pl;
     sf_sweep sw;
     memset(&pl, 0, sizeof pl);
     memset(&sw, 0, sizeof sw);
+    sw.lock_fd = -1;
     char exe[4096];
     int rc = -1;
     if (rank == 0) {
@@ -232,8 +250,11 @@ int main(int argc, char **argv)
         }
         if (rc < 0) rc = sf_sweep_setup(&o, &pl, &sw, 1);
     }
-    /* Workers plan only once rank 0 has checked the input and made DIR. */
-    MPI_Bcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    /* Workers plan only once rank 0 has checked the input and made DIR
+     * (waiting without spinning: rank 0 may take a while to resume). */
+    MPI_Request req;
+    MPI_Ibcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD, &req);
+    if (wait_request(&req, MPI_STATUS_IGNORE)) _exit(128 + stop_signal);
     if (rc >= 0) {
         if (rank == 0) {
             sf_sweep_close(&sw);

@@ -23,34 +23,67 @@ static const char *assign_str(char a)
     }
 }
 
+/* a real number as jansson writes it, with the fewest digits that read
+ * back to the same double (0.4, not 0.40000000000000002) */
+static void num(sf_outbuf *b, double x)
+{
+    json_t *v = json_real(x);
+    char *s = NULL;
+    for (int p = 1; v && p <= 17; p++) {
+        free(s);
+        s = json_dumps(v, JSON_ENCODE_ANY | JSON_REAL_PRECISION(p));
+        if (!s || strtod(s, NULL) == x) break;
+    }
+    json_decref(v);
+    if (!s) { b->oom = 1; return; }
+    sf_outbuf_printf(b, "%s", s);
+    free(s);
+}
+
+static void key(sf_outbuf *b, int *first, const char *indent, const char *k)
+{
+    sf_outbuf_printf(b, "%s%s\"%s\": ", *first ? "" : ",\n", indent, k);
+    *first = 0;
+}
+
 /* one "key": value line, the value compact */
-static void put(sf_outbuf *b, int *first, const char *indent, const char *key, json_t *val)
+static void put(sf_outbuf *b, int *first, const char *indent, const char *k, json_t *val)
 {
     if (!val) { b->oom = 1; return; }
     char *s = json_dumps(val, JSON_COMPACT | JSON_REAL_PRECISION(17) | JSON_ENCODE_ANY);
     json_decref(val);
     if (!s) { b->oom = 1; return; }
-    sf_outbuf_printf(b, "%s%s\"%s\": %s", *first ? "" : ",\n", indent, key, s);
-    *first = 0;
+    key(b, first, indent, k);
+    sf_outbuf_printf(b, "%s", s);
     free(s);
 }
 
-static json_t *points(int n, const double *x, int dim)
+static void points(sf_outbuf *b, int *first, const char *indent, const char *k, int n,
+                   const double *x, int dim)
 {
-    json_t *a = json_array();
-    for (int i = 0; a && i < n; i++) {
-        json_t *p = json_array();
-        for (int k = 0; p && k < dim; k++) json_array_append_new(p, json_real(x[dim * i + k]));
-        json_array_append_new(a, p);
+    key(b, first, indent, k);
+    sf_outbuf_printf(b, "[");
+    for (int i = 0; i < n; i++) {
+        sf_outbuf_printf(b, "%s[", i ? "," : "");
+        for (int d = 0; d < dim; d++) {
+            if (d) sf_outbuf_printf(b, ",");
+            num(b, x[dim * i + d]);
+        }
+        sf_outbuf_printf(b, "]");
     }
-    return a;
+    sf_outbuf_printf(b, "]");
 }
 
-static json_t *reals(int n, const double *x)
+static void reals(sf_outbuf *b, int *first, const char *indent, const char *k, int n,
+                  const double *x)
 {
-    json_t *a = json_array();
-    for (int i = 0; a && i < n; i++) json_array_append_new(a, json_real(x[i]));
-    return a;
+    key(b, first, indent, k);
+    sf_outbuf_printf(b, "[");
+    for (int i = 0; i < n; i++) {
+        if (i) sf_outbuf_printf(b, ",");
+        num(b, x[i]);
+    }
+    sf_outbuf_printf(b, "]");
 }
 
 static void pattern_keys(sf_outbuf *b, int *first, const sf_cpattern *cp)
@@ -61,7 +94,7 @@ static void pattern_keys(sf_outbuf *b, int *first, const sf_cpattern *cp)
         xy[2 * i] = cp->unit * cp->v[i].x[0];
         xy[2 * i + 1] = cp->unit * cp->v[i].x[1];
     }
-    put(b, first, "  ", "vertices_coords", points(cp->nv, xy, 2));
+    points(b, first, "  ", "vertices_coords", cp->nv, xy, 2);
     free(xy);
     json_t *ev = json_array(), *ea = json_array();
     int anyangle = 0, allangle = 1, anyname = 0;
@@ -77,10 +110,11 @@ static void pattern_keys(sf_outbuf *b, int *first, const sf_cpattern *cp)
     put(b, first, "  ", "edges_vertices", ev);
     put(b, first, "  ", "edges_assignment", ea);
     if (anyangle && allangle) {
-        json_t *fa = json_array();
-        for (int i = 0; fa && i < cp->ne; i++)
-            json_array_append_new(fa, json_real(isfinite(cp->e[i].angle) ? cp->e[i].angle : 0.0));
-        put(b, first, "  ", "edges_foldAngle", fa);
+        double *fa = malloc((size_t)(cp->ne + 1) * sizeof *fa);
+        if (!fa) { b->oom = 1; return; }
+        for (int i = 0; i < cp->ne; i++) fa[i] = isfinite(cp->e[i].angle) ? cp->e[i].angle : 0.0;
+        reals(b, first, "  ", "edges_foldAngle", cp->ne, fa);
+        free(fa);
     }
     if (cp->nf > 0) {
         json_t *fv = json_array();
@@ -115,10 +149,12 @@ static void frame(sf_outbuf *b, const sf_cpattern *cp, const sf_fold_frame *fr)
     put(b, &first, in, "frame_attributes", json_pack("[s]", "3D"));
     put(b, &first, in, "frame_parent", json_integer(0));
     put(b, &first, in, "frame_inherit", json_true());
-    put(b, &first, in, "vertices_coords", points(cp->nv, &fr->x[0][0], 3));
-    put(b, &first, in, "edges_foldAngle", reals(cp->ne, fr->angle));
-    put(b, &first, in, "smoothfold:p", json_real(fr->p));
-    put(b, &first, in, "smoothfold:load", json_real(fr->load));
+    points(b, &first, in, "vertices_coords", cp->nv, &fr->x[0][0], 3);
+    reals(b, &first, in, "edges_foldAngle", cp->ne, fr->angle);
+    key(b, &first, in, "smoothfold:p");
+    num(b, fr->p);
+    key(b, &first, in, "smoothfold:load");
+    num(b, fr->load);
     put(b, &first, in, "smoothfold:stable",
         fr->stable < 0 ? json_null() : json_boolean(fr->stable));
     put(b, &first, in, "smoothfold:branch", json_integer(fr->branch));
@@ -140,7 +176,8 @@ int sf_fold_write(const sf_cpattern *cp, const char *creator, int nframes,
     sf_outbuf b = {0};
     int first = 1;
     sf_outbuf_printf(&b, "{\n");
-    put(&b, &first, "  ", "file_spec", json_real(1.1));
+    key(&b, &first, "  ", "file_spec");
+    num(&b, 1.1);
     put(&b, &first, "  ", "file_creator", json_string(creator ? creator : "smoothfold"));
     put(&b, &first, "  ", "file_classes", json_pack("[s]", "singleModel"));
     if (cp->title[0]) put(&b, &first, "  ", "frame_title", json_string(cp->title));

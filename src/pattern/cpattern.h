@@ -84,6 +84,15 @@ void sf_cp_setbacks(const sf_cpattern *cp, const double *width,
                     const int *outline, int noutline, double margin,
                     double min_frac, double (*sb)[2]);
 
+/* The crease pattern of a study (cp_from_study.c): its vertices (names
+ * kept), its folds in study order as edges 0..nfolds-1 (M or V from
+ * folds[].assignment, else from the sign of the rest angle at actuation 1,
+ * else U; that angle in degrees), then the outline edges (B) of the
+ * topology, and the topology's faces. */
+struct sf_topology;
+int sf_cp_from_study(const sf_study *s, const struct sf_topology *t,
+                     sf_cpattern *cp, sf_error *err);
+
 /* ---- writing a study ---------------------------------------------------- */
 
 typedef struct sf_cp_study_opts {

@@ -11,4 +11,5 @@ src_libsmoothfold_a_SOURCES += src/pattern/pattern.h \
 	src/pattern/topology_geom.c src/pattern/topology_check.c src/pattern/topology_bodies.c \
 	src/pattern/assignment.c \
 	src/pattern/cpattern.c src/pattern/cpattern.h src/pattern/cp_study.c \
+	src/pattern/cp_from_study.c src/pattern/fold_read.c src/pattern/foldread.h \
 	src/pattern/generators.c src/pattern/generators.h

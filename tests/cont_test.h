@@ -1,0 +1,103 @@
+/* cont_test.h - checks and helpers shared by the continuation engine's
+ * tests (test_cont.c, test_cont_det.c).  Include after cmocka.h. */
+#ifndef SF_CONT_TEST_H
+#define SF_CONT_TEST_H
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <sunmatrix/sunmatrix_sparse.h>
+
+#include "cont.h"
+
+#define CHECK_CLOSE(got, exp, tol)                                            \
+    do {                                                                      \
+        double g_ = (got), e_ = (exp), t_ = (tol);                            \
+        if (!(fabs(g_ - e_) <= t_)) {                                         \
+            print_error("%s:%d: %s\n  expected %.17g\n  got      %.17g\n"     \
+                        "  |diff| = %.3g > tol %.3g\n",                       \
+                        __FILE__, __LINE__, #got, e_, g_, fabs(g_ - e_), t_); \
+            fail();                                                           \
+        }                                                                     \
+    } while (0)
+
+#define CHECK_TRUE(cond, ...)                                                 \
+    do {                                                                      \
+        if (!(cond)) {                                                        \
+            print_error("%s:%d: check failed: %s\n  ", __FILE__, __LINE__,   \
+                        #cond);                                               \
+            print_error(__VA_ARGS__);                                         \
+            print_error("\n");                                                \
+            fail();                                                           \
+        }                                                                     \
+    } while (0)
+
+#define CHECK_OK(call, s)                                                     \
+    do {                                                                      \
+        int rc_ = (call);                                                     \
+        if (rc_ != CONT_OK) {                                                 \
+            print_error("%s:%d: %s returned %d, expected CONT_OK: %s\n",      \
+                        __FILE__, __LINE__, #call, rc_, cont_errmsg(s));      \
+            fail();                                                           \
+        }                                                                     \
+    } while (0)
+
+static inline cont_solver *make(const cont_problem *prob, int linsol)
+{
+    cont_solver *s = NULL;
+    int rc = cont_create(prob, linsol, &s);
+    if (rc != CONT_OK) {
+        print_error("cont_create failed (%d): %s\n", rc, s ? cont_errmsg(s) : "no memory");
+        cont_free(s);
+        fail();
+    }
+    return s;
+}
+
+static inline double norm_inf(const double *v, int n)
+{
+    double r = 0.0;
+    for (int i = 0; i < n; i++) r = fmax(r, fabs(v[i]));
+    return r;
+}
+
+static inline int count_label(const cont_solver *s, const char *label)
+{
+    int k = 0;
+    for (long i = 0; i < cont_num_special(s); i++)
+        if (strcmp(cont_special_at(s, i)->label, label) == 0) k++;
+    return k;
+}
+
+static inline const cont_point *find_label(const cont_solver *s, const char *label)
+{
+    for (long i = 0; i < cont_num_special(s); i++)
+        if (strcmp(cont_special_at(s, i)->label, label) == 0) return cont_special_at(s, i);
+    return NULL;
+}
+
+/* Fill a CSC sparse matrix from dense column-major values (|v| > 0 kept,
+ * plus the diagonal so the pattern stays fixed). */
+static inline void dense_to_csc(SUNMatrix J, long n, const double *a)
+{
+    sunindextype nnz = 0;
+    for (long j = 0; j < n; j++)
+        for (long i = 0; i < n; i++)
+            if (a[j * n + i] != 0.0 || i == j) nnz++;
+    if (SM_NNZ_S(J) < nnz) SUNSparseMatrix_Reallocate(J, nnz);
+    sunindextype *ptr = SM_INDEXPTRS_S(J), *idx = SM_INDEXVALS_S(J);
+    double *val = SM_DATA_S(J);
+    sunindextype k = 0;
+    for (long j = 0; j < n; j++) {
+        ptr[j] = k;
+        for (long i = 0; i < n; i++)
+            if (a[j * n + i] != 0.0 || i == j) {
+                idx[k] = i;
+                val[k++] = a[j * n + i];
+            }
+    }
+    ptr[n] = k;
+}
+
+#endif
