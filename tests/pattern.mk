@@ -16,3 +16,5 @@ tests_test_fold_LDADD = $(SF_TEST_LIBS)
 TESTS += tests/test_fold.sh
 EXTRA_DIST += tests/test_fold.sh tests/fold/README.md $(wildcard $(srcdir)/tests/fold/*.fold) \
 	$(wildcard $(srcdir)/tests/bad/fold_*.fold) $(wildcard $(srcdir)/tests/bad/fold_*.expect)
+TESTS += tests/test_fold_npm.sh
+EXTRA_DIST += tests/test_fold_npm.sh tests/fold_check.js

@@ -184,8 +184,11 @@ static int eval_arpack(sf_stab *st, sf_error *err)
     int rc = sf_sstab_eval(st->sp, &H, nc > 0 ? &C : NULL, err);
     if (rc) return rc;
     const sf_sstab_result *S = sf_sstab_get(st->sp);
-    /* a tangent space too small for ARPACK: the dense method decides */
+    /* a tangent space too small for ARPACK, or an inertia that could not
+     * be trusted (constraint rows near the rank cut, e.g. just off the
+     * flat state): the dense method (SVD) decides */
     if (S->neig == 0 && S->dim > 0 && S->dim < st->nev + 3) return -1;
+    if (S->status == SF_SSTAB_UNKNOWN && S->morse < 0) return -1;
     R->method = SF_EIG_ARPACK;
     R->rank = S->rank;
     R->dim = S->dim;

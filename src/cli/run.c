@@ -27,6 +27,7 @@
 #include "scene.h"
 #include "stability.h"
 #include "study.h"
+#include "fold.h"
 #include "vtk.h"
 
 #ifndef PACKAGE_VERSION
@@ -45,6 +46,7 @@ typedef struct run_ctx {
     sf_mpoint *probes;
     sf_outbuf rows, stats, special, header;
     sf_pvd pvd;
+    sf_foldrec foldrec;   /* DIR/folded.fold: one frame per shape (fold.h) */
     int nshapes;
     double p_start, p_end, last_shape_p, shape_dp;
     int branch_first;     /* the next point starts a branch */
@@ -245,7 +247,9 @@ static int write_point(run_ctx *r, const cont_point *pt)
         snprintf(rel, sizeof rel, "shapes/shape_%04ld.vtp", r->npoints);
         snprintf(path, sizeof path, "%s/%s", r->dir, rel);
         if (sf_vtk_write_shape(m, pt->y, s->samples, path, r->err) ||
-            sf_pvd_add(&r->pvd, pt->p, rel, r->err)) {
+            sf_pvd_add(&r->pvd, pt->p, rel, r->err) ||
+            sf_foldrec_add(&r->foldrec, pt->y, pt->p, load, r->do_stab ? r->stab.res.stable : -1,
+                           r->bif.branch, r->err)) {
             r->failed = 1;
             return 1;
         }
@@ -597,6 +601,8 @@ static int write_outputs(run_ctx *r)
         if (sf_reactions_write(&r->reac, &r->eq, path, r->header.s, err)) return err->code;
     }
     if (r->nshapes > 0 && sf_pvd_write(&r->pvd, err)) return err->code;
+    snprintf(path, sizeof path, "%s/folded.fold", r->dir);
+    if (sf_foldrec_write(&r->foldrec, path, err)) return err->code;
     snprintf(path, sizeof path, "%s/study.cfg", r->dir);
     char hdr[256];
     snprintf(hdr, sizeof hdr, "merged study run by smoothfold %s (after --set overrides)",
@@ -650,6 +656,9 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
         char pvd[1100];
         snprintf(pvd, sizeof pvd, "%s/shapes.pvd", r.dir);
         sf_pvd_init(&r.pvd, pvd);
+        rc = sf_foldrec_init(&r.foldrec, &sc.model, err);
+    }
+    if (!rc) {
         sf_outbuf_printf(&r.header, "# smoothfold %s: %s, analysis %s\n", PACKAGE_VERSION,
                   sc.study.name, sc.study.analysis_type);
         rc = run_equilibrium(&r);
@@ -694,6 +703,7 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     if (r.do_stab && r.step_bound) sf_stab_free(&r.stab2);
     sf_reactions_free(&r.reac);
     sf_pvd_free(&r.pvd);
+    sf_foldrec_free(&r.foldrec);
     sf_scene_close(&sc);
     return rc;
 }
