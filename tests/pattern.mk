@@ -18,3 +18,4 @@ EXTRA_DIST += tests/test_fold.sh tests/fold/README.md $(wildcard $(srcdir)/tests
 	$(wildcard $(srcdir)/tests/bad/fold_*.fold) $(wildcard $(srcdir)/tests/bad/fold_*.expect)
 TESTS += tests/test_fold_npm.sh
 EXTRA_DIST += tests/test_fold_npm.sh tests/fold_check.js
+EXTRA_DIST += plots/shape.gp plots/vtp2gp.awk plots/pattern-pictures.sh
