@@ -69,8 +69,61 @@ static void limit_free(limit_problem *L)
     free(L->U);
     free(L->J1);
     free(L->c1);
-    free(L->G);
+    sf_limit_free_G(L);
     memset(L, 0, sizeof *L);
+}
+
+void sf_limit_free_G(sf_limit *L)
+{
+    free(L->Gp);
+    free(L->Gi);
+    free(L->Gj);
+    free(L->Gx);
+    L->Gp = NULL;
+    L->Gi = L->Gj = NULL;
+    L->Gx = NULL;
+}
+
+/* Append the nonzeros of the dense nq x nq matrix H as G_s (s = the next
+ * one; Gp[s] set by the caller); *cap grows the arrays. */
+static int g_append(sf_limit *L, int s, const double *H, long *cap)
+{
+    int nq = L->nq;
+    long k = L->Gp[s];
+    for (int i = 0; i < nq; i++)
+        for (int j = 0; j < nq; j++) {
+            double v = H[(size_t)i * nq + j];
+            if (v == 0.0) continue;
+            if (k == *cap) {
+                long nc = *cap ? 2 * *cap : 1024;
+                int *gi = realloc(L->Gi, sizeof(int) * (size_t)nc);
+                if (gi) L->Gi = gi;
+                int *gj = realloc(L->Gj, sizeof(int) * (size_t)nc);
+                if (gj) L->Gj = gj;
+                double *gx = realloc(L->Gx, sizeof(double) * (size_t)nc);
+                if (gx) L->Gx = gx;
+                if (!gi || !gj || !gx) return -1;
+                *cap = nc;
+            }
+            L->Gi[k] = i;
+            L->Gj[k] = j;
+            L->Gx[k++] = v;
+        }
+    L->Gp[s + 1] = k;
+    return 0;
+}
+
+int sf_limit_set_G_dense(sf_limit *L, const double *G)
+{
+    long cap = 0;
+    L->Gp = calloc((size_t)L->n2 + 1, sizeof(long));
+    if (!L->Gp) return -1;
+    for (int s = 0; s < L->n2; s++)
+        if (g_append(L, s, G + (size_t)s * L->nq * L->nq, &cap)) {
+            sf_limit_free_G(L);
+            return -1;
+        }
+    return 0;
 }
 
 /* Residual of the limit problem at z = (u, mu, nu); Jacobian A (n x n,
@@ -79,15 +132,10 @@ static void limit_eval(const limit_problem *L, const double *z, double eps, doub
 {
     int nq = L->nq, n1 = L->n1, n2 = L->n2, n = L->n;
     const double *u = z, *mu = z + nq, *nu = z + nq + n1;
-    double *Gu = malloc(sizeof(double) * ((size_t)n2 * nq + 1));
-    for (int s = 0; s < n2; s++) {
-        const double *Gs = L->G + (size_t)s * nq * nq;
-        for (int i = 0; i < nq; i++) {
-            double v = 0.0;
-            for (int j = 0; j < nq; j++) v += Gs[(size_t)i * nq + j] * u[j];
-            Gu[(size_t)s * nq + i] = v;
-        }
-    }
+    double *Gu = calloc((size_t)n2 * nq + 1, sizeof(double));
+    for (int s = 0; s < n2; s++)
+        for (long k = L->Gp[s]; k < L->Gp[s + 1]; k++)
+            Gu[(size_t)s * nq + L->Gi[k]] += L->Gx[k] * u[L->Gj[k]];
     for (int i = 0; i < nq; i++) {
         double v = L->gp[i];
         for (int j = 0; j < nq; j++) v += L->H0[(size_t)i * nq + j] * u[j];
@@ -109,12 +157,9 @@ static void limit_eval(const limit_problem *L, const double *z, double eps, doub
         memset(A, 0, sizeof(double) * (size_t)n * n);
 #define AT(i, j) A[(size_t)(j) * n + (i)]
         for (int i = 0; i < nq; i++)
-            for (int j = 0; j < nq; j++) {
-                double v = L->H0[(size_t)i * nq + j];
-                for (int s = 0; s < n2; s++)
-                    v += nu[s] * L->G[((size_t)s * nq + i) * nq + j];
-                AT(i, j) = v;
-            }
+            for (int j = 0; j < nq; j++) AT(i, j) = L->H0[(size_t)i * nq + j];
+        for (int s = 0; s < n2; s++)
+            for (long k = L->Gp[s]; k < L->Gp[s + 1]; k++) AT(L->Gi[k], L->Gj[k]) += nu[s] * L->Gx[k];
         for (int r = 0; r < n1; r++)
             for (int j = 0; j < nq; j++) {
                 AT(j, nq + r) = L->J1[(size_t)r * nq + j];
@@ -219,6 +264,8 @@ static int limit_build(sf_equil *q, double p0, limit_problem *L, sf_error *err)
     double *S = malloc(sizeof(double) * ((size_t)(nc < nq ? nq : nc) + 1));
     double *lam = malloc(sizeof(double) * ((size_t)nc + 1));
     double *grad = calloc((size_t)nq + 1, sizeof(double));
+    double *Hs = NULL;
+    long gcap = 0;
     L->H0 = calloc((size_t)nq * nq + 1, sizeof(double));
     L->gp = calloc((size_t)nq + 1, sizeof(double));
     L->cp = calloc((size_t)nc + 1, sizeof(double));
@@ -272,8 +319,9 @@ static int limit_build(sf_equil *q, double p0, limit_problem *L, sf_error *err)
     }
     L->J1 = calloc((size_t)n1 * nq + 1, sizeof(double));
     L->c1 = calloc((size_t)n1 + 1, sizeof(double));
-    L->G = calloc((size_t)L->n2 * nq * nq + 1, sizeof(double));
-    if (!L->J1 || !L->c1 || !L->G) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); goto done; }
+    L->Gp = calloc((size_t)L->n2 + 1, sizeof(long));
+    Hs = malloc(sizeof(double) * ((size_t)nq * nq + 1)); /* one G_s at a time */
+    if (!L->J1 || !L->c1 || !L->Gp || !Hs) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); goto done; }
     /* combination c of the scaled rows: weights U[:, c] on the scaled rows,
      * i.e. U[r, c] * scale_r on the rows themselves */
     for (int c = 0; c < n1; c++) {
@@ -288,7 +336,12 @@ static int limit_build(sf_equil *q, double p0, limit_problem *L, sf_error *err)
     for (int s = 0; s < L->n2; s++) {
         int c = n1 + s;
         for (int r = 0; r < nc; r++) lam[r] = L->U[(size_t)c * nc + r] * row_scale(q, r);
-        rows_hessian_add(q, lam, L->G + (size_t)s * nq * nq);
+        memset(Hs, 0, sizeof(double) * (size_t)nq * nq);
+        rows_hessian_add(q, lam, Hs);
+        if (g_append(L, s, Hs, &gcap)) {
+            rc = sf_fail(err, SF_ENOMEM, "out of memory");
+            goto done;
+        }
     }
 done:
     free(z0);
@@ -297,6 +350,7 @@ done:
     free(S);
     free(lam);
     free(grad);
+    free(Hs);
     if (rc) limit_free(L);
     return rc;
 }

@@ -17,8 +17,20 @@ typedef struct sf_limit {
     double *U;                /* ncon x ncon left singular vectors of the scaled J(0), column-major */
     double *J1;               /* n1 x nq */
     double *c1;               /* n1 */
-    double *G;                /* n2 x nq x nq: Hessians of the second-order combinations */
+    /* Hessians G_s of the second-order combinations, sparse (each is local
+     * to the folds of the vertices it combines; a dense n2 x nq x nq array
+     * took gigabytes on tessellations): the entries k in [Gp[s], Gp[s+1])
+     * are G_s(Gi[k], Gj[k]) = Gx[k]. */
+    long *Gp;                 /* n2 + 1 */
+    int *Gi, *Gj;
+    double *Gx;
 } sf_limit;
+
+/* Set L's G_s from n2 dense nq x nq row-major matrices G (the nonzeros
+ * are copied); free with sf_limit_free_G.  Returns nonzero when out of
+ * memory. */
+int sf_limit_set_G_dense(sf_limit *L, const double *G);
+void sf_limit_free_G(sf_limit *L);
 
 /* Solve the limit problem by the eps homotopy (flatstart.c), at most maxit
  * Newton iterations in all; z (n values) receives the solution.  Returns

@@ -370,7 +370,7 @@ static int limit_directions(const probe *P, const second_order *so, int nforce, 
     L.n2 = so->n2;
     L.n = nc + so->n1 + so->n2;
     L.J1 = so->J1;
-    L.G = so->G;
+    if (sf_limit_set_G_dense(&L, so->G)) return -1;
     L.H0 = calloc((size_t)nc * nc + 1, sizeof(double));
     L.gp = calloc((size_t)nc + 1, sizeof(double));
     L.c1 = calloc((size_t)so->n1 + 1, sizeof(double));
@@ -413,6 +413,7 @@ static int limit_directions(const probe *P, const second_order *so, int nforce, 
         }
     }
 done:
+    sf_limit_free_G(&L);
     free(L.H0);
     free(L.gp);
     free(L.c1);

@@ -96,23 +96,35 @@ static int forms(mbp_ws *W, const double *y0, double p0, const double uk[2], dou
     return 0;
 }
 
-static void eval_forms(const mbp_ws *W, int order, const double u[2], double Au[2], double F[2])
+/* A u and G_r(u) = B(u, u) / 2 + (r / 6) C(u, u, u): the reduced equations
+ * on the ray xi = r u read lam A u + r G_r(u) = 0 (the terms a kernel
+ * direction meets at amplitude r; B = 0 leaves the cubic equations, C
+ * negligible the quadratic ones). */
+static void eval_forms(const mbp_ws *W, double r, const double u[2], double Au[2], double G[2])
 {
     for (int a = 0; a < 2; a++) {
         Au[a] = W->A[2 * a] * u[0] + W->A[2 * a + 1] * u[1];
-        if (order == 2)
-            F[a] = u[0] * u[0] * W->B[0][a] + 2 * u[0] * u[1] * W->B[1][a] + u[1] * u[1] * W->B[2][a];
-        else
-            F[a] = u[0] * u[0] * u[0] * W->C[0][a] + 3 * u[0] * u[0] * u[1] * W->C[1][a] +
+        double b = u[0] * u[0] * W->B[0][a] + 2 * u[0] * u[1] * W->B[1][a] + u[1] * u[1] * W->B[2][a];
+        double c = u[0] * u[0] * u[0] * W->C[0][a] + 3 * u[0] * u[0] * u[1] * W->C[1][a] +
                    3 * u[0] * u[1] * u[1] * W->C[2][a] + u[1] * u[1] * u[1] * W->C[3][a];
+        G[a] = 0.5 * b + r / 6.0 * c;
     }
 }
 
-static double angle_fn(const mbp_ws *W, int order, double th)
+static double angle_fn(const mbp_ws *W, double r, double th)
 {
-    double u[2] = {cos(th), sin(th)}, Au[2], F[2];
-    eval_forms(W, order, u, Au, F);
-    return Au[0] * F[1] - Au[1] * F[0];
+    double u[2] = {cos(th), sin(th)}, Au[2], G[2];
+    eval_forms(W, r, u, Au, G);
+    return Au[0] * G[1] - Au[1] * G[0];
+}
+
+/* lam on the ray u at amplitude r (NAN when A u = 0) */
+static double ray_lam(const mbp_ws *W, double r, const double u[2])
+{
+    double Au[2], G[2];
+    eval_forms(W, r, u, Au, G);
+    double aa = Au[0] * Au[0] + Au[1] * Au[1];
+    return aa > 0 ? -r * (G[0] * Au[0] + G[1] * Au[1]) / aa : NAN;
 }
 
 static void ws_free(mbp_ws *W)
@@ -196,7 +208,7 @@ static int reduce(mbp_ws *W, const double *y0, double p0, sf_mbp *res, sf_error 
         for (int k = 0; k < 3; k++) res->bnorm = fmax(res->bnorm, fabs(W->B[k][a]));
         for (int k = 0; k < 4; k++) res->cnorm = fmax(res->cnorm, fabs(W->C[k][a]));
     }
-    res->order = res->bnorm <= 1e-6 * res->cnorm ? 3 : 2;
+    res->order = res->bnorm <= 1e-6 * res->cnorm ? 3 : 2;   /* 2: the quadratic part counts */
     return SF_OK;
 }
 
@@ -234,61 +246,66 @@ int sf_mbp_directions(sf_equil *eq, const double *y0, double p0, int d, double r
     int rc = reduce(&W, y0, p0, res, err);
     if (rc) { ws_free(&W); return rc; }
     int order = res->order;
-    /* zeros of the angle function on [0, pi): each a ray, both signs */
-    double roots[8];
-    int nr = 0;
-    double th0 = 0.0, f0 = angle_fn(&W, order, 0.0);
-    for (int k = 1; k <= MBP_SAMPLES && nr < 8; k++) {
-        double th1 = M_PI * k / MBP_SAMPLES, f1 = angle_fn(&W, order, th1);
+    /* zeros of the angle function on [0, 2 pi): each a ray (u and -u are
+     * different rays unless the equations are purely cubic, where they
+     * are mirror images; both are followed) */
+    double roots[SF_MBP_MAXDIR];
+    int nr = 0, ns = 2 * MBP_SAMPLES;
+    double th0 = 0.0, f0 = angle_fn(&W, r, 0.0);
+    for (int k = 1; k <= ns && nr < SF_MBP_MAXDIR; k++) {
+        double th1 = 2 * M_PI * k / ns, f1 = angle_fn(&W, r, th1);
         if (f0 == 0.0) {
             roots[nr++] = th0;
-        } else if ((f0 > 0) != (f1 > 0) && f1 != 0.0) {
+        } else if ((f0 > 0) != (f1 > 0) && f1 != 0.0 && k < ns) {
             double a = th0, b = th1, fa = f0;
             for (int it = 0; it < 100 && b - a > 1e-15; it++) {
-                double m = 0.5 * (a + b), fm = angle_fn(&W, order, m);
+                double m = 0.5 * (a + b), fm = angle_fn(&W, r, m);
                 if (fm == 0.0) { a = b = m; break; }
                 if ((fm > 0) == (fa > 0)) { a = m; fa = fm; } else b = m;
             }
             roots[nr++] = 0.5 * (a + b);
+        } else if ((f0 > 0) != (f1 > 0) && k == ns) {
+            /* the last interval ends at 2 pi = 0: a zero there is the first sample's */
+            double a = th0, b = th1, fa = f0;
+            for (int it = 0; it < 100 && b - a > 1e-15; it++) {
+                double m = 0.5 * (a + b), fm = angle_fn(&W, r, m);
+                if (fm == 0.0) { a = b = m; break; }
+                if ((fm > 0) == (fa > 0)) { a = m; fa = fm; } else b = m;
+            }
+            if (2 * M_PI - 0.5 * (a + b) > 1e-9 || !(nr > 0 && roots[0] < 1e-9)) roots[nr++] = 0.5 * (a + b);
         }
         th0 = th1;
         f0 = f1;
     }
-    /* a zero at pi is the ray of a zero at 0 */
-    if (nr > 1 && fabs(roots[nr - 1] - M_PI) < 1e-9 && roots[0] < 1e-9) nr--;
     res->y = malloc(sizeof(double) * (size_t)(2 * SF_MBP_MAXDIR) * n);
     if (!res->y) { ws_free(&W); return sf_fail(err, SF_ENOMEM, "out of memory"); }
     res->ty = res->y + (size_t)SF_MBP_MAXDIR * n;
-    for (int i = 0; i < nr && res->ndir + 2 <= SF_MBP_MAXDIR; i++) {
-        for (int sg = 1; sg >= -1; sg -= 2) {
-            double u[2] = {sg * cos(roots[i]), sg * sin(roots[i])}, Au[2], F[2];
-            eval_forms(&W, order, u, Au, F);
-            double aa = Au[0] * Au[0] + Au[1] * Au[1];
-            if (!(aa > 0)) continue;
-            double c = (F[0] * Au[0] + F[1] * Au[1]) / aa, rr = r;
-            double lam = order == 2 ? -0.5 * rr * c : -rr * rr * c / 6.0;
-            if (fabs(lam) > lam_max) {
-                rr *= order == 2 ? lam_max / fabs(lam) : sqrt(lam_max / fabs(lam));
-                lam = order == 2 ? -0.5 * rr * c : -rr * rr * c / 6.0;
-            }
-            double dl = order == 2 ? lam / rr : 2.0 * lam / rr;
-            int k = res->ndir++;
-            double *y = res->y + (size_t)k * n, *ty = res->ty + (size_t)k * n;
-            for (int j = 0; j < n; j++) {
-                double uf = u[0] * W.Phi[j] + u[1] * W.Phi[j + n];
-                y[j] = y0[j] + lam * W.ty0[j] + rr * uf;
-                ty[j] = uf + dl * W.ty0[j];
-            }
-            res->p[k] = p0 + lam;
-            res->tp[k] = dl;
-            res->lam[k] = lam;
-            res->theta[k] = sg > 0 ? roots[i] : roots[i] + M_PI;
+    for (int i = 0; i < nr && res->ndir < SF_MBP_MAXDIR; i++) {
+        double u[2] = {cos(roots[i]), sin(roots[i])}, rr = r;
+        double lam = ray_lam(&W, rr, u);
+        if (!isfinite(lam)) continue;
+        for (int it = 0; it < 40 && fabs(lam) > lam_max; it++) {
+            rr *= 0.5;
+            lam = ray_lam(&W, rr, u);
         }
+        /* dlam/dr on the ray, for the tangent */
+        double dl = (ray_lam(&W, rr * 1.001, u) - ray_lam(&W, rr * 0.999, u)) / (0.002 * rr);
+        int k = res->ndir++;
+        double *y = res->y + (size_t)k * n, *ty = res->ty + (size_t)k * n;
+        for (int j = 0; j < n; j++) {
+            double uf = u[0] * W.Phi[j] + u[1] * W.Phi[j + n];
+            y[j] = y0[j] + lam * W.ty0[j] + rr * uf;
+            ty[j] = uf + dl * W.ty0[j];
+        }
+        res->p[k] = p0 + lam;
+        res->tp[k] = dl;
+        res->lam[k] = lam;
+        res->theta[k] = roots[i];
     }
     ws_free(&W);
     if (res->ndir == 0)
-        return sf_fail(err, SF_ENUMERIC, "the reduced %s bifurcation equations have no isolated "
-                       "solution", order == 2 ? "quadratic" : "cubic");
+        return sf_fail(err, SF_ENUMERIC, "the reduced bifurcation equations (order %d) have no "
+                       "isolated solution", order);
     return SF_OK;
 }
 

@@ -19,13 +19,16 @@
  * B(u, u) = Phi^T F_yy[Phi u, Phi u],
  * C(u, u, u) = Phi^T (F_yyy[u, u, u] - 3 F_yy[u, Jy^+ (I - P) F_yy[u, u]])
  * (P the projector on the kernel; the second term is the contribution of
- * the quadratic part of w).  Their isolated solutions are rays xi = r u,
- * |u| = 1, along which A u is parallel to B(u, u) (C(u, u, u)): the zeros
- * of the angle function h(theta) = (A u) x B(u, u) (resp. x C(u, u, u)),
- * u = (cos theta, sin theta), a trigonometric polynomial of degree 3
- * (4), found by sampling [0, pi] and bisection.  On each ray
- *   lam = -(r / 2) B.Au / |Au|^2   or   lam = -(r^2 / 6) C.Au / |Au|^2,
- * both signs of r.
+ * the quadratic part of w).  On a ray xi = r u, |u| = 1, at the working
+ * amplitude r both read
+ *   lam A u + r G(u) = 0,  G(u) = B(u, u) / 2 + (r / 6) C(u, u, u)
+ * (B = 0 exactly at a symmetric point: the cubic equations; a small B next
+ * to a large C, as at a branch point located only approximately, keeps
+ * both terms where a pure quadratic reduction would be dominated by the
+ * error of B).  Isolated solutions: the rays where A u is parallel to
+ * G(u), zeros of the angle function h(theta) = (A u) x G(u),
+ * u = (cos theta, sin theta), found by sampling [0, 2 pi) and bisection;
+ * on each, lam = -r G(u).Au / |Au|^2 (r halved until |lam| <= lam_max).
  *
  * Derivatives: Jy and Fp are the analytic ones (equilibrium.c); F_yy and
  * F_yyy along kernel directions, and dJy/dp along the branch, are central
@@ -51,7 +54,7 @@
 
 typedef struct sf_mbp {
     int n;
-    int order;            /* 2: quadratic, 3: cubic reduced equations */
+    int order;            /* 3: cubic (quadratic part zero), 2: quadratic + cubic */
     int ndir;             /* directions found (both signs of each ray) */
     double theta[SF_MBP_MAXDIR];   /* angle of u in the kernel plane */
     double lam[SF_MBP_MAXDIR];     /* p - p0 of the predicted point */

@@ -557,6 +557,14 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
                  "decided (SuiteSparseQR)");
         return SF_OK;
     }
+    if (s->mk >= n) { /* no motion left: H_c is empty, nothing can be unstable */
+        R->rank = s->mk;
+        R->dim = 0;
+        R->morse = 0;
+        R->stable = 1;
+        R->status = SF_SSTAB_OK;
+        return SF_OK;
+    }
     /* inertia at sigma0; a null pivot (Cr is independent, so it means an
      * eigenvalue of H_c at sigma0) moves the shift once */
     double sigma0 = -SHIFT_REL * s->scale;
@@ -592,13 +600,6 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
         return SF_OK;
     }
     int morse0 = R->morse;
-    if (R->dim <= 0) { /* no motion: nothing can be unstable */
-        R->dim = 0;
-        R->morse = 0;
-        R->stable = 1;
-        R->status = SF_SSTAB_OK;
-        return SF_OK;
-    }
     int done = 0;
     if ((rc = eigen_attempts(s, sigma0, morse0, &done, err))) return rc;
     size_t len = strlen(R->reason);
