@@ -520,6 +520,13 @@ int cont_get_linsol(const cont_solver *s) { return s ? s->linsol : 0; }
 
 double cont_get_ds(const cont_solver *s) { return s ? s->ds : 0.0; }
 
+int cont_set_next_step(cont_solver *s, double ds)
+{
+    if (!s || !(ds > 0) || !isfinite(ds)) return CONT_EINPUT;
+    s->ds = fmax(fmin(ds, s->ds_max), s->ds_min);
+    return CONT_OK;
+}
+
 const char *cont_reference(void)
 {
     return "H. B. Keller, Numerical solution of bifurcation and nonlinear eigenvalue "

@@ -387,6 +387,11 @@ const char *cont_errmsg(const cont_solver *s);
 int cont_get_linsol(const cont_solver *s);
 /* Step size the next step will try. */
 double cont_get_ds(const cont_solver *s);
+/* Set the step size the next step will try (clamped to [ds_min, ds_max]),
+ * e.g. from the point callback, which sees each point before the next step
+ * is taken, when it predicts special points the engine's tests cannot
+ * separate.  Later steps grow from it as usual. */
+int cont_set_next_step(cont_solver *s, double ds);
 
 /* ---- branch switching ------------------------------------------------ */
 

@@ -5,3 +5,6 @@ TESTS += tests/test_multibp
 tests_test_multibp_SOURCES = tests/test_multibp.c
 tests_test_multibp_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_multibp_LDADD = $(SF_TEST_LIBS)
+# the step bound near predicted eigenvalue crossings (analysis.step_bound)
+TESTS += tests/test_step_bound.sh
+EXTRA_DIST += tests/test_step_bound.sh

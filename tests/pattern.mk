@@ -16,3 +16,6 @@ tests_test_fold_LDADD = $(SF_TEST_LIBS)
 TESTS += tests/test_fold.sh
 EXTRA_DIST += tests/test_fold.sh tests/fold/README.md $(wildcard $(srcdir)/tests/fold/*.fold) \
 	$(wildcard $(srcdir)/tests/bad/fold_*.fold) $(wildcard $(srcdir)/tests/bad/fold_*.expect)
+TESTS += tests/test_fold_npm.sh
+EXTRA_DIST += tests/test_fold_npm.sh tests/fold_check.js
+EXTRA_DIST += plots/shape.gp plots/vtp2gp.awk plots/pattern-pictures.sh

@@ -139,6 +139,125 @@ static void test_miura(void **state)
         }
 }
 
+/* rigid loop closure at a degree-4 vertex: prod_k R(e_k, r_k) = I, the
+ * creases counter-clockwise; r[0] fixed, r[1..3] solved by Newton's method
+ * (finite-difference Jacobian: a test tool) from the given guess */
+static void rot(const double a, double t, double R[3][3])
+{
+    double x = cos(a), y = sin(a), c = cos(t), s = sin(t), C = 1 - c;
+    double M[3][3] = {{c + x * x * C, x * y * C, y * s}, {x * y * C, c + y * y * C, -x * s}, {-y * s, x * s, c}};
+    memcpy(R, M, sizeof M);
+}
+
+static void closure(const double ang[4], const double r[4], double f[3])
+{
+    double P[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int k = 0; k < 4; k++) {
+        double R[3][3], Q[3][3];
+        rot(ang[k], r[k], R);
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                Q[i][j] = P[i][0] * R[0][j] + P[i][1] * R[1][j] + P[i][2] * R[2][j];
+        memcpy(P, Q, sizeof P);
+    }
+    f[0] = P[2][1]; f[1] = P[0][2]; f[2] = P[1][0];
+}
+
+static int solve_closure(const double ang[4], double r[4])
+{
+    for (int it = 0; it < 50; it++) {
+        double f[3], J[3][3], h = 1e-7;
+        closure(ang, r, f);
+        if (fabs(f[0]) + fabs(f[1]) + fabs(f[2]) < 1e-13) return 1;
+        for (int j = 0; j < 3; j++) {
+            double rr[4], fj[3];
+            memcpy(rr, r, sizeof rr);
+            rr[j + 1] += h;
+            closure(ang, rr, fj);
+            for (int i = 0; i < 3; i++) J[i][j] = (fj[i] - f[i]) / h;
+        }
+        double D = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+                   J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+        if (fabs(D) < 1e-14) return 0;
+        for (int j = 0; j < 3; j++) {
+            double A[3][3];
+            memcpy(A, J, sizeof A);
+            for (int i = 0; i < 3; i++) A[i][j] = -f[i];
+            double Dj = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+                        A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+            r[j + 1] += Dj / D;
+        }
+    }
+    return 0;
+}
+
+/* Each interior degree-4 vertex of a Miura sheet folds rigidly with the
+ * signs of its assignment: fix a zigzag crease at 0.3 rad with its sign,
+ * start Newton from the assigned signs (magnitude 0.3), and the closed
+ * state keeps every sign.  (With the straight creases' signs swapped, the
+ * closed state near that start has other signs: the check can fail.) */
+static void test_miura_rigid_mode(void **state)
+{
+    (void)state;
+    double angles[] = {60, 45, 75};
+    for (int k = 0; k < 3; k++) {
+        sf_gen_opts o;
+        sf_error e;
+        sf_error_clear(&e);
+        assert_int_equal(sf_gen_defaults("miura", &o, &e), SF_OK);
+        o.angle = angles[k];
+        sf_cpattern cp;
+        CHECK_OK(sf_generate("miura", &o, &cp, &e), e);
+        int checked = 0;
+        for (int v = 0; v < cp.nv; v++) {
+            double ang[4], sg[4];
+            int n = 0, boundary = 0;
+            for (int i = 0; i < cp.ne; i++) {
+                if (cp.e[i].a != v && cp.e[i].b != v) continue;
+                if (cp.e[i].assign == 'B') boundary = 1;
+                int o2 = cp.e[i].a == v ? cp.e[i].b : cp.e[i].a;
+                if (n < 4) {
+                    double t = atan2(cp.v[o2].x[1] - cp.v[v].x[1], cp.v[o2].x[0] - cp.v[v].x[0]);
+                    ang[n] = t < 0 ? t + 2 * M_PI : t;
+                    sg[n] = cp.e[i].assign == 'V' ? 1 : -1;
+                }
+                n++;
+            }
+            if (boundary || n != 4) continue;
+            for (int a = 1; a < 4; a++)   /* counter-clockwise */
+                for (int b = a; b > 0 && ang[b] < ang[b - 1]; b--) {
+                    double t = ang[b]; ang[b] = ang[b - 1]; ang[b - 1] = t;
+                    t = sg[b]; sg[b] = sg[b - 1]; sg[b - 1] = t;
+                }
+            /* fix a zigzag crease (one without a collinear partner): the
+             * straight line alone folding is another rigid motion, with
+             * the zigzag flat, that a fixed straight crease could reach */
+            int c0 = -1;
+            for (int c = 0; c < 4 && c0 < 0; c++) {
+                int partner = 0;
+                for (int d = 0; d < 4; d++)
+                    if (fabs(fabs(ang[d] - ang[c]) - M_PI) < 1e-9) partner = 1;
+                if (!partner) c0 = c;
+            }
+            assert_true(c0 >= 0);
+            double a2[4], s2[4];
+            for (int c = 0; c < 4; c++) { a2[c] = ang[(c + c0) % 4]; s2[c] = sg[(c + c0) % 4]; }
+            memcpy(ang, a2, sizeof ang);
+            memcpy(sg, s2, sizeof sg);
+            double r[4] = {0.3 * sg[0], 0.3 * sg[1], 0.3 * sg[2], 0.3 * sg[3]};
+            assert_true(solve_closure(ang, r));
+            for (int c = 0; c < 4; c++) {
+                if (r[c] * sg[c] <= 0 || fabs(r[c]) >= M_PI)
+                    print_error("angle %g, vertex %d: crease %d assigned %+g, folds %+g\n", o.angle, v, c, sg[c], r[c]);
+                assert_true(r[c] * sg[c] > 0 && fabs(r[c]) < M_PI);
+            }
+            checked++;
+        }
+        assert_int_equal(checked, 9);
+        sf_cp_free(&cp);
+    }
+}
+
 static void test_yoshimura(void **state)
 {
     (void)state;
@@ -245,6 +364,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_miura),
+        cmocka_unit_test(test_miura_rigid_mode),
         cmocka_unit_test(test_yoshimura),
         cmocka_unit_test(test_waterbomb),
         cmocka_unit_test(test_setbacks),

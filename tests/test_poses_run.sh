@@ -4,12 +4,16 @@
 # probes and fold angles as with "folds" at the points both paths share;
 # every file the fold run writes is written; the pose formulation with the
 # paper's penalty, and with a trajectory, stops with a one-line error that
-# names the study (or the --set that chose the formulation).  Output is TAP.
+# names the study (or the --set that chose the formulation); the 2x2
+# Miura under gravity and a tip load starts at the flat state directly
+# (analysis.flat_start = "direct") and follows 20 steps with every fold's
+# six rows closed to the Newton tolerance (1e-10) and the corner moving
+# down.  Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 bin=${SF_BUILDDIR:-.}/src/smoothfold
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-echo "1..4"
+echo "1..5"
 n=1
 for study in strip3 square4; do
     ok=1
@@ -57,3 +61,19 @@ refused() {
 }
 refused penalty "$src/studies/waterbomb2.cfg" --set solver.constraints=\"penalty\"
 refused dynamics "$src/studies/snap1-dynamics.cfg"
+out=$("$bin" run "$src/tests/studies/miura2.cfg" --set solver.formulation=\"poses\" \
+      --set analysis.flat_start=\"direct\" --set analysis.stability=false --set analysis.max_steps=20 \
+      -o "$tmp/miura2" -q 2>&1); rc=$?
+if [ $rc -ne 0 ]; then
+    echo "not ok $n - miura2 poses, direct flat start: status $rc: $out"
+else
+    msg=$(grep -v '^#' "$tmp/miura2/branch.tsv" | awk -F'\t' '
+        NR == 1 { for (i = 1; i <= NF; i++) { if ($i == "residual") r = i; if ($i == "probe1_uz") u = i; if ($i == "p") pc = i }; next }
+        { k++; if ($r > m) m = $r; if (k > 1 && $u >= prev) bad++; prev = $u; p = $pc }
+        END { printf "%d points to p = %.3g, largest residual %.2g, uz %.3g m", k, p, m, prev
+              if (k < 20 || m > 1e-10 || bad || prev >= 0) print " FAIL" }')
+    case "$msg" in
+        *FAIL) echo "not ok $n - miura2 poses, direct flat start: $msg" ;;
+        *) echo "ok $n - miura2 poses, direct flat start: $msg" ;;
+    esac
+fi

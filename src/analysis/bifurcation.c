@@ -36,6 +36,12 @@ void sf_bif_free(sf_bif *b)
     memset(b, 0, sizeof *b);
 }
 
+static int cmp_dbl(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
 /* A note on a branch, through the caller's hook. */
 static void note(sf_bif *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static void note(sf_bif *b, const char *fmt, ...)
@@ -262,6 +268,35 @@ double sf_bif_locate_eig(sf_bif *b, const double *ya, double pa, double fa, int 
     return fabs(pb - pa);
 }
 
+/* (bifurcation.h) */
+double sf_bif_step_bound(const sf_stab_result *R, sf_stab *st2, sf_equil *eq, const cont_point *pt,
+                         double ds_next)
+{
+    int n = eq->n, ne = R->neig;
+    if (!pt->ty || ne < 2 || ne > 256) return 0.0;
+    double h = 1e-6, d[256], mu[256];
+    for (int j = 0; j < ne; j++) mu[j] = R->eig[j];
+    double *y = malloc(sizeof(double) * (size_t)n);
+    if (!y) return 0.0;
+    for (int i = 0; i < n; i++) y[i] = pt->y[i] + h * pt->ty[i];
+    sf_error e;
+    sf_error_clear(&e);
+    int bad = sf_stab_eval(st2, eq, y, pt->p + h * pt->tp, &e) || st2->res.neig < ne;
+    free(y);
+    if (bad) return 0.0;
+    int nd = 0;
+    for (int j = 0; j < ne; j++) {
+        double slope = (st2->res.eig[j] - mu[j]) / h;
+        if (mu[j] * slope < 0) d[nd++] = -mu[j] / slope;
+    }
+    qsort(d, (size_t)nd, sizeof *d, cmp_dbl);
+    for (int i = 0; i + 1 < nd; i++) {
+        if (d[i + 1] >= ds_next) break;
+        if (d[i + 1] - d[i] > 1e-3 * d[i + 1]) return 0.5 * (d[i] + d[i + 1]);
+    }
+    return 0.0;
+}
+
 int sf_bif_check(sf_bif *b, const cont_point *pt, double s_offset, int first, sf_error *err)
 {
     if (!b->stab) return SF_OK;
@@ -443,12 +478,6 @@ typedef struct bif_sig {
     double p, Pi;
     double *y, *mag;      /* state (n), sorted |q| (nq) */
 } bif_sig;
-
-static int cmp_dbl(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 static int sig_close(const bif_sig *a, const bif_sig *b, int nq, int n, int same_state)
 {

@@ -114,6 +114,20 @@ int sf_bif_prepare(sf_bif *b);
  * at arclength sarc: remember it for the next check (not while locating). */
 void sf_bif_point_written(sf_bif *b, const cont_point *pt, double sarc);
 
+/* Step bound near predicted eigenvalue crossings (docs/bifurcation.md,
+ * "Step length near predicted crossings").  R: the stability at the
+ * regular point pt (unit tangent pt->ty, pt->tp).  The slopes dmu_j/ds of
+ * the eigenvalues R->eig come from a second evaluation with st2 at
+ * (y + h ty, p + h tp), h = 1e-6 (the eigenvalues keep their order over so
+ * short a distance); each mu_j moving towards zero is predicted to cross
+ * it at d_j = -mu_j / (dmu_j/ds) beyond pt.  When two distinct predicted
+ * crossings (d_b - d_a > 1e-3 d_b; equal ones are one multiple crossing)
+ * both lie within the next step ds_next, the step is bounded to
+ * (d_a + d_b) / 2, so that it ends between them.  Returns the bound, or 0
+ * (none, or the second evaluation failed). */
+double sf_bif_step_bound(const sf_stab_result *R, sf_stab *st2, sf_equil *eq, const cont_point *pt,
+                         double ds_next);
+
 /* Before pt is written (its stability in b->stab->res): locate the
  * eigenvalue crossings since the previous point that the engine's tests
  * cannot account for, emitting each as a row.  s_offset: arclength before

@@ -24,6 +24,15 @@ extern void dgemm_(const char *ta, const char *tb, const int *m, const int *n, c
  * of second order at the flat state). */
 #define ZERO_ROW 1e-13
 
+/* Scratch of the dense method: U, W, Hc (nq x nq each), C^T (nq x nc),
+ * singular and eigenvalues, and LAPACK's workspace (dgesvd with all of U:
+ * at least max(3 min + max, 5 min); dsyev: 3 nq), generously. */
+static size_t dense_work(int nqi, int nci)
+{
+    size_t nq = (size_t)nqi, nc = (size_t)nci, N = nq + nc;
+    return 3 * nq * nq + nq * nc + 64 * N + 4 * nq + nc + 64;
+}
+
 const char *sf_stab_method_name(int method)
 {
     return method == SF_EIG_DENSE ? "dense" : method == SF_EIG_ARPACK ? "arpack" : "auto";
@@ -37,10 +46,10 @@ int sf_stab_init(sf_stab *st, const sf_equil *q, int method, int nev, sf_error *
     st->nev = nev < 1 ? 1 : nev;
     st->method = method;
     size_t nq = (size_t)q->nq, nc = (size_t)q->ncon, N = nq + nc;
-    /* scratch: the largest of the dense and ARPACK needs (generous) */
-    int ncv = 40 + 2 * st->nev;
-    st->nwork = 6 * nq * nq + 4 * N * N + 3 * N + (size_t)ncv * (nq + ncv + 8) + 64 * N + 4 * nq +
-                nc + 64;
+    /* scratch for the method that will run; the dense one (also the
+     * fallback of ARPACK) grows it when it needs more (dense_work) */
+    int dense = method == SF_EIG_DENSE || (method == SF_EIG_AUTO && q->nq <= SF_EIG_DENSE_MAX);
+    st->nwork = dense ? dense_work(q->nq, q->ncon) : nq * nq + nc * nq + 64;
     st->HL = calloc(nq * nq + 1, sizeof(double));
     st->C = calloc(nc * nq + 1, sizeof(double));
     st->work = calloc(st->nwork, sizeof(double));
@@ -90,6 +99,13 @@ static int eval_dense(sf_stab *st, sf_error *err)
 {
     int nq = st->nq, nc = st->ncon, info = 0;
     sf_stab_result *R = &st->res;
+    size_t need = dense_work(nq, nc);
+    if (st->nwork < need) {
+        double *w2 = realloc(st->work, sizeof(double) * need);
+        if (!w2) return sf_fail(err, SF_ENOMEM, "out of memory");
+        st->work = w2;
+        st->nwork = need;
+    }
     double *w = st->work;
     double *U = w;                        /* nq x nq */
     double *A = U + (size_t)nq * nq;      /* nq x nc */

@@ -27,6 +27,7 @@
 #include "scene.h"
 #include "stability.h"
 #include "study.h"
+#include "fold.h"
 #include "vtk.h"
 
 #ifndef PACKAGE_VERSION
@@ -45,6 +46,7 @@ typedef struct run_ctx {
     sf_mpoint *probes;
     sf_outbuf rows, stats, special, header;
     sf_pvd pvd;
+    sf_foldrec foldrec;   /* DIR/folded.fold: one frame per shape (fold.h) */
     int nshapes;
     double p_start, p_end, last_shape_p, shape_dp;
     int branch_first;     /* the next point starts a branch */
@@ -54,6 +56,9 @@ typedef struct run_ctx {
     cont_solver *solver;
     /* stability */
     int do_stab, nev;
+    int step_bound;       /* analysis.step_bound: steps bounded near predicted crossings */
+    long nbound;          /* steps so bounded */
+    sf_stab stab2;        /* the second evaluation of the step bound */
     sf_stab stab;
     long neig_method[3];  /* points analysed by each SF_EIG_* method */
     /* branches (numbering, branch points, switching) and the Morse-index
@@ -160,6 +165,12 @@ static int on_point(const cont_point *pt, void *data)
             return rc;
         }
         free(ybuf);
+        if (r->step_bound && pt->index >= 1 && pt->type == CONT_PT_REGULAR) {
+            /* two eigenvalue crossings predicted within the next step: end
+             * it between them (bifurcation.h, sf_bif_step_bound) */
+            double bnd = sf_bif_step_bound(&r->stab.res, &r->stab2, eq, pt, cont_get_ds(r->solver));
+            if (bnd > 0 && cont_set_next_step(r->solver, bnd) == CONT_OK) r->nbound++;
+        }
     }
     return write_point(r, pt);
 }
@@ -236,7 +247,9 @@ static int write_point(run_ctx *r, const cont_point *pt)
         snprintf(rel, sizeof rel, "shapes/shape_%04ld.vtp", r->npoints);
         snprintf(path, sizeof path, "%s/%s", r->dir, rel);
         if (sf_vtk_write_shape(m, pt->y, s->samples, path, r->err) ||
-            sf_pvd_add(&r->pvd, pt->p, rel, r->err)) {
+            sf_pvd_add(&r->pvd, pt->p, rel, r->err) ||
+            sf_foldrec_add(&r->foldrec, pt->y, pt->p, load, r->do_stab ? r->stab.res.stable : -1,
+                           r->bif.branch, r->err)) {
             r->failed = 1;
             return 1;
         }
@@ -394,7 +407,8 @@ static int run_equilibrium(run_ctx *r)
     if (sf_study_bool(s, "analysis.stability", 1, &stab_on, err) ||
         sf_study_int(s, "analysis.eigenvalues", 4, &nev, err) ||
         sf_study_int(s, "analysis.branch_depth", 0, &depth, err) ||
-        sf_study_string(s, "analysis.eigensolver", "auto", &eigsolver, err))
+        sf_study_string(s, "analysis.eigensolver", "auto", &eigsolver, err) ||
+        sf_study_bool(s, "analysis.step_bound", 1, &r->step_bound, err))
         return err->code;
     r->do_stab = stab_on;
     r->nev = stab_on ? nev : 0;
@@ -426,6 +440,10 @@ static int run_equilibrium(run_ctx *r)
         int meth = strcmp(eigsolver, "dense") == 0 ? SF_EIG_DENSE
                  : strcmp(eigsolver, "arpack") == 0 ? SF_EIG_ARPACK : SF_EIG_AUTO;
         if (sf_stab_init(&r->stab, eq, meth, nev > 0 ? nev : 1, err)) return err->code;
+        if (r->step_bound && sf_stab_init(&r->stab2, eq, meth, nev > 0 ? nev : 1, err)) {
+            r->step_bound = 0;
+            return err->code;
+        }
         if (sf_study_int(s, "analysis.arpack_maxiter", 1000, &r->stab.arpack_maxiter, err) ||
             sf_study_int(s, "analysis.arpack_attempts", 4, &r->stab.arpack_attempts, err))
             return err->code;
@@ -435,6 +453,10 @@ static int run_equilibrium(run_ctx *r)
         return sf_fail(err, SF_ENOMEM, "continuation: %s",
                        r->solver ? cont_errmsg(r->solver) : "cannot create the solver");
     cont_solver *cs = r->solver;
+    if (eq->pz)
+        sf_outbuf_printf(&r->header, "# formulation: poses, %d unknowns (%d coordinates, %d "
+                         "multipliers), %ld Jacobian nonzeros\n", eq->n, eq->nq, eq->ncon,
+                         sf_equil_poses_nnz(eq));
     double lo = fmin(start, end), hi = fmax(start, end);
     cont_set_step(cs, step, min_step, max_step);
     cont_set_prange(cs, lo, hi);
@@ -483,7 +505,13 @@ static int run_equilibrium(run_ctx *r)
             }
         if (rested && eq->pz) sf_equil_poses_lift(eq, y0);
     }
-    if ((eq->pz ? sc->topo.nivertices > 0 : eq->nloop > 0) && F0norm <= flat_tol) {
+    const char *flat_start;
+    if (sf_study_string(s, "analysis.flat_start", "limit", &flat_start, err)) {
+        free(y0);
+        return err->code;
+    }
+    int direct = strcmp(flat_start, "direct") == 0;
+    if (!direct && (eq->pz ? sc->topo.nivertices > 0 : eq->nloop > 0) && F0norm <= flat_tol) {
         /* The flat state solves the exact problem at the start, but it is a
          * singular point of loop closure (multipliers of the second-order
          * rows are undetermined there).  Report it, then start the branch
@@ -554,6 +582,9 @@ static int write_outputs(run_ctx *r)
         sf_outbuf_printf(&out, "# stability: %ld points by the dense LAPACK method, %ld by ARPACK "
                         "(analysis.eigensolver)\n", r->neig_method[SF_EIG_DENSE],
                   r->neig_method[SF_EIG_ARPACK]);
+    if (r->do_stab && r->step_bound)
+        sf_outbuf_printf(&out, "# step bound: %ld steps shortened to end between two predicted "
+                         "eigenvalue crossings (analysis.step_bound)\n", r->nbound);
     sf_outbuf_printf(&out, "# units: s, p, load: as the parameter (load factor, actuation factor, or m); "
                     "probe*: m; energy: J; residual_rot: 1; residual_tra: m; eig*: J per unit "
                     "of the coordinates (rad, mode amplitude); theta*: rad\n");
@@ -592,6 +623,8 @@ static int write_outputs(run_ctx *r)
         if (sf_reactions_write(&r->reac, &r->eq, path, r->header.s, err)) return err->code;
     }
     if (r->nshapes > 0 && sf_pvd_write(&r->pvd, err)) return err->code;
+    snprintf(path, sizeof path, "%s/folded.fold", r->dir);
+    if (sf_foldrec_write(&r->foldrec, path, err)) return err->code;
     snprintf(path, sizeof path, "%s/study.cfg", r->dir);
     char hdr[256];
     snprintf(hdr, sizeof hdr, "merged study run by smoothfold %s (after --set overrides)",
@@ -645,6 +678,9 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
         char pvd[1100];
         snprintf(pvd, sizeof pvd, "%s/shapes.pvd", r.dir);
         sf_pvd_init(&r.pvd, pvd);
+        rc = sf_foldrec_init(&r.foldrec, &sc.model, err);
+    }
+    if (!rc) {
         sf_outbuf_printf(&r.header, "# smoothfold %s: %s, analysis %s\n", PACKAGE_VERSION,
                   sc.study.name, sc.study.analysis_type);
         rc = run_equilibrium(&r);
@@ -686,8 +722,10 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     free(r.header.s);
     free(r.bnotes.s);
     if (r.do_stab) sf_stab_free(&r.stab);
+    if (r.do_stab && r.step_bound) sf_stab_free(&r.stab2);
     sf_reactions_free(&r.reac);
     sf_pvd_free(&r.pvd);
+    sf_foldrec_free(&r.foldrec);
     sf_scene_close(&sc);
     return rc;
 }

@@ -31,4 +31,32 @@ int sf_fold_write_pattern(const sf_cpattern *cp, const char *path, sf_error *err
 int sf_fold_write(const sf_cpattern *cp, const char *creator, int nframes,
                   const sf_fold_frame *frames, const char *path, sf_error *err);
 
+/* ---- the folded forms of a run (fold_frames.c) ----------------------------
+ * DIR/folded.fold: the study's crease pattern (sf_cp_from_study) and one
+ * foldedForm frame per output shape.  A crease-pattern vertex is not a
+ * material point of a smooth-fold sheet (the bands and the small polygon
+ * around each vertex separate the faces): it is placed at the mean of its
+ * images under the rigid motions of the faces around it.  The fold angle
+ * of an edge is the smooth fold's total turning theta (degrees, valley
+ * positive); 0 on boundary edges.  docs/fold-format.md. */
+struct sf_model;
+typedef struct sf_foldrec {
+    const struct sf_model *m;
+    sf_cpattern cp;
+    int nframes, cap;
+    double (*x)[3];           /* nframes * cp.nv points */
+    double *angle;            /* nframes * cp.ne angles [deg] */
+    sf_fold_frame *fr;
+    int *vface;               /* per vertex: one face per incidence, CSR */
+    int *vstart;
+    void *kin;                /* sf_kin, for the maps */
+} sf_foldrec;
+
+int sf_foldrec_init(sf_foldrec *r, const struct sf_model *m, sf_error *err);
+/* One frame: the state y (fold coordinates first) at parameter p. */
+int sf_foldrec_add(sf_foldrec *r, const double *y, double p, double load,
+                   int stable, int branch, sf_error *err);
+int sf_foldrec_write(const sf_foldrec *r, const char *path, sf_error *err);
+void sf_foldrec_free(sf_foldrec *r);
+
 #endif

@@ -17,7 +17,7 @@
 /* Names smoothfold writes at the top of DIR (fnmatch patterns). */
 static const char *const own_top[] = {
     MARKER, "branch.tsv", "special.tsv", "stats.csv", "study.cfg", "reactions.tsv",
-    "trajectory.tsv", "compare*.tsv", "convergence.tsv", "shapes.pvd", "shapes_branch*.pvd",
+    "trajectory.tsv", "compare*.tsv", "convergence.tsv", "folded.fold", "shapes.pvd", "shapes_branch*.pvd",
     "stability.png", "stability.pdf", "eigenvalues.png", "eigenvalues.pdf", "angles.png",
     "angles.pdf", "trajectory.png", "trajectory.pdf", "boundary.tsv", "boundary.png",
     "boundary.pdf", "*.tmp",

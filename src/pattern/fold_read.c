@@ -64,9 +64,13 @@ static int pick_frame(rd *r, int want)
                        r->path, want, n, n == 1 ? "" : "s");
         r->index = want;
     } else {
-        r->index = 0;
+        r->index = -1;
         for (int k = 0; k < n; k++)
             if (has_class(frame_n(r->root, k), "creasePattern")) { r->index = k; break; }
+        if (r->index < 0 && has_class(r->root, "foldedForm"))
+            return BAD("%s: frame_classes: no \"creasePattern\" frame, the top level is a \"foldedForm\" "
+                       "(--frame N reads a frame as a crease pattern anyway)", r->path);
+        if (r->index < 0) r->index = 0;
     }
     r->frame = frame_n(r->root, r->index);
     if (!json_is_object(r->frame))

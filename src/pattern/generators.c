@@ -51,13 +51,15 @@ static int miura(const sf_gen_opts *o, sf_cpattern *cp, sf_error *err)
         }
 #define VID(i, j) ((j) * (ni + 1) + (i))
     /* zigzag line i: all one sign s_i, alternating with i; straight line j:
-     * segment i -> i+1 has s_i on even j, -s_i on odd j (at every vertex
-     * the crease inside the 2*angle wedge of the zigzag has the zigzag's
-     * sign, the opposite one the other: Maekawa's 3 - 1) */
+     * segment i -> i+1 has -s_i on even j, s_i on odd j: at every vertex
+     * the straight crease inside the zigzag's 2*angle wedge has the sign
+     * opposite to the zigzag's, the one outside the zigzag's sign (three
+     * of one kind, one of the other: Maekawa), the rigid folding mode of
+     * the vertex (tests/test_pattern.c solves its loop closure) */
     for (int j = 0; j <= nj; j++)
         for (int i = 0; i < ni; i++) {
             int s = i % 2 ? -1 : 1;
-            char as = (j == 0 || j == nj) ? 'B' : mv(j % 2 ? -s : s);
+            char as = (j == 0 || j == nj) ? 'B' : mv(j % 2 ? s : -s);
             OOM(sf_cp_add_edge(cp, VID(i, j), VID(i + 1, j), as, NAN));
         }
     for (int i = 0; i <= ni; i++)

@@ -149,6 +149,8 @@ static const sf_study_key schema[] = {
     {"analysis.eigensolver",       STR,   0,              0, 0,       "auto",        "auto|dense|arpack", "-", "eigenvalues of the constrained Hessian: dense LAPACK (explicit tangent basis), ARPACK shift-invert on the KKT pencil, or auto (dense up to 200 coordinates)"},
     {"analysis.arpack_maxiter",    INT,   SF_KEY_GE,      1, 0,       "1000",        NULL, "-", "ARPACK restarts per attempt (a non-converged attempt is retried with a larger subspace, then another shift)"},
     {"analysis.arpack_attempts",   INT,   SF_KEY_GE,      1, 0,       "4",           NULL, "-", "ARPACK attempts per point before its stability is marked unknown"},
+    {"analysis.flat_start",        STR,   0,              0, 0,       "limit",       "limit|direct", "-", "exact closure starting at the flat state: from the limit of the branch (then the penalty homotopy), or directly (the engine's tangent at the singular point)"},
+    {"analysis.step_bound",        BOOL,  0,              0, 0,       "true",        NULL, "-", "shorten a step so that it ends between two eigenvalue crossings predicted within it (docs/bifurcation.md)"},
     {"analysis.branch_depth",      INT,   SF_KEY_GE,      0, 0,       "0",           NULL, "-", "levels of branch switching at branch points (0: none)"},
     {"analysis.second",            STR,   0,              0, 0,       NULL,          NULL, "-", "boundary: the second parameter, any numeric study key (defaults.width, materials.fold.E, analysis.load, loads[0].force[0], ...)"},
     {"analysis.second_min",        NUM,   0,              0, 0,       NULL,          NULL, "-", "boundary: smallest value of the second parameter"},
