@@ -186,6 +186,8 @@ static int dispatch(const command *cmd, char **args, sf_options *opt)
         else if (strcmp(cmd->name, "shape") == 0) rc = sf_cmd_shape(opt, &err);
         else rc = sf_cmd_run(opt, &err);
         if (rc == SF_OK && strcmp(cmd->name, "run") == 0)
+            rc = sf_cli_convergence(opt, &err);  /* analysis.convergence: K+1 */
+        if (rc == SF_OK && strcmp(cmd->name, "run") == 0)
             rc = sf_cli_run_plots(opt, &err);   /* --plot, output.plots */
     }
     if (rc != SF_OK) {

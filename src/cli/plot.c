@@ -205,7 +205,9 @@ int sf_cli_run_plots(const sf_options *o, sf_error *err)
         snprintf(path, sizeof path, "%s/study.cfg", o->output);
         want = 0;
         if (sf_study_load(path, 0, NULL, &s, &serr) == SF_OK) {
-            sf_study_bool(&s, "output.plots", 0, &want, NULL);
+            /* the schema's default (true) is a dynamics default: an
+             * equilibrium study draws only when it says so */
+            if (sf_study_has(&s, "output.plots")) sf_study_bool(&s, "output.plots", 0, &want, NULL);
             sf_study_free(&s);
         }
     }
