@@ -91,7 +91,7 @@ fi
 
 # A sweep that takes a second or so: SIGTERM once a few variants are done.
 # $1 = launcher ("" or mpirun ...), $2 = directory.  Prints the exit status.
-long="--vary defaults.width=0.004:0.008:8 --vary materials.fold.E=1e6,2e6,4e6 --set output.shapes=0"
+long="--vary defaults.width=0.004:0.008:16 --vary materials.fold.E=1e6,2e6,4e6 --set output.shapes=0"
 interrupt() {
     $1 "$bin" sweep "$src/studies/square4.cfg" $long -q -o "$2" >"$2.log" 2>&1 &
     pid=$!
@@ -118,15 +118,15 @@ complete() {
 # an uninterrupted sweep's apart from wall_s
 st=$(interrupt "" "$tmp/kill")
 k=$(complete "$tmp/kill/sweep.tsv")
-grep -q "^# finished: $k of 24 " "$tmp/kill/sweep.tsv" && kk=ok || kk=bad
+grep -q "^# finished: $k of 48 " "$tmp/kill/sweep.tsv" && kk=ok || kk=bad
 rows "$tmp/kill/sweep.tsv" >"$tmp/before"
 "$bin" sweep "$src/studies/square4.cfg" $long -q -o "$tmp/kill" >"$tmp/log5" 2>&1
 "$bin" sweep "$src/studies/square4.cfg" $long -q -o "$tmp/full" >/dev/null 2>&1
 untimed "$tmp/kill/sweep.tsv" >"$tmp/a"; untimed "$tmp/full/sweep.tsv" >"$tmp/b"
-if [ "$st" = 143 ] && [ "$kk" = ok ] && [ "$k" -ge 3 ] && [ "$k" -lt 24 ] \
-    && grep -q "24 variants ($((24 - k)) run now, $k finished before)" "$tmp/log5" \
+if [ "$st" = 143 ] && [ "$kk" = ok ] && [ "$k" -ge 3 ] && [ "$k" -lt 48 ] \
+    && grep -q "48 variants ($((48 - k)) run now, $k finished before)" "$tmp/log5" \
     && [ "$(rows "$tmp/kill/sweep.tsv" | grep -c -F -x -f "$tmp/before")" = "$k" ] && cmp -s "$tmp/a" "$tmp/b"; then
-    echo "ok 5 - serial SIGTERM after $k of 24: complete table, exit 143; resumed to the uninterrupted table"
+    echo "ok 5 - serial SIGTERM after $k of 48: complete table, exit 143; resumed to the uninterrupted table"
 else
     echo "not ok 5 - serial kill/resume: exit $st, $k rows ($kk); $(cat "$tmp/log5") $(diff "$tmp/a" "$tmp/b" | head -3)"
 fi
@@ -140,13 +140,14 @@ else
     k=$(complete "$tmp/mkill/sweep.tsv")
     sleep 0.3
     left=$(pids "$tmp/mkill" | wc -l)
+    k2=$(complete "$tmp/mkill/sweep.tsv")   # nothing recorded after the stop
     $mpi "$bin" sweep "$src/studies/square4.cfg" $long -q -o "$tmp/mkill" >"$tmp/log6" 2>&1
     untimed "$tmp/mkill/sweep.tsv" >"$tmp/a"
-    if [ "$st" != 0 ] && [ "$k" -ge 3 ] && [ "$k" -lt 24 ] && [ "$left" = 0 ] \
-        && grep -q "24 variants ($((24 - k)) run now, $k finished before)" "$tmp/log6" && cmp -s "$tmp/a" "$tmp/b"; then
-        echo "ok 6 - mpirun SIGTERM after $k of 24: complete table; resumed under mpirun to the serial table"
+    if [ "$st" != 0 ] && [ "$k" -ge 3 ] && [ "$k" -lt 48 ] && [ "$left" = 0 ] && [ "$k2" = "$k" ] \
+        && grep -q "48 variants ($((48 - k)) run now, $k finished before)" "$tmp/log6" && cmp -s "$tmp/a" "$tmp/b"; then
+        echo "ok 6 - mpirun SIGTERM after $k of 48: complete table; resumed under mpirun to the serial table"
     else
-        echo "not ok 6 - mpirun kill/resume: exit $st, $k rows, $left left running; $(tail -2 "$tmp/log6")"
+        echo "not ok 6 - mpirun kill/resume: exit $st, $k rows ($k2 later), $left left running; $(tail -2 "$tmp/log6")"
     fi
 fi
 
@@ -207,7 +208,7 @@ while [ ! -f "$tmp/lock/sweep.tsv" ] && [ $i -lt 500 ]; do sleep 0.01; i=$((i + 
 e=$("$bin" sweep "$src/studies/square4.cfg" $long -q -o "$tmp/lock" 2>&1); s2=$?
 wait $pid; s1=$?
 if [ $s1 = 0 ] && [ $s2 = 1 ] && echo "$e" | grep -q "sweep.lock: another sweep is running in $tmp/lock" \
-    && [ "$(complete "$tmp/lock/sweep.tsv")" = 24 ]; then
+    && [ "$(complete "$tmp/lock/sweep.tsv")" = 48 ]; then
     echo "ok 11 - a second sweep into a busy directory is refused (status 1); the first completes"
 else
     echo "not ok 11 - lock: first exit $s1, second exit $s2: $e"

@@ -31,8 +31,14 @@ enum { TAG_READY = 1, TAG_RESULT, TAG_TASK, TAG_STOP };
 
 /* Which signal asked the sweep to stop (a handler reaches only statics). */
 static volatile sig_atomic_t stop_signal;
+/* The launcher that started this rank (mpirun, orted, srun), and whether
+ * it has gone: a rank must not outlive its job.  Set once in main. */
+static pid_t launcher;
+static int orphaned;
 
 static void on_signal(int sig) { stop_signal = sig; }
+
+static void on_child(int sig) { (void)sig; }
 
 static void catch_signals(void)
 {
@@ -42,6 +48,12 @@ static void catch_signals(void)
     sigemptyset(&sa.sa_mask);
     sigaction(SIGTERM, &sa, NULL);
     sigaction(SIGINT, &sa, NULL);
+    /* SIGCHLD cuts rank 0's nap short when its own variant ends (nanosleep
+     * returns at any handled signal); SA_RESTART keeps it from
+     * interrupting anything else, MPI's own calls included. */
+    sa.sa_handler = on_child;
+    sa.sa_flags = SA_RESTART;
+    sigaction(SIGCHLD, &sa, NULL);
 }
 
 static void nap(void)
@@ -50,14 +62,34 @@ static void nap(void)
     nanosleep(&t, NULL);
 }
 
-/* Wait for a request without spinning; 0 when done, -1 on a stop signal. */
+/* Stop? On SIGTERM or SIGINT, or when the launcher has gone without
+ * passing the signal on (mpirun killed while starting the job was seen to
+ * leave its ranks running): then as if SIGTERM had come. */
+static int stopping(void)
+{
+    if (!stop_signal && getppid() != launcher) {
+        orphaned = 1;
+        stop_signal = SIGTERM;
+    }
+    return stop_signal;
+}
+
+/* Leave at once after a stop: without a launcher MPI_Abort may hang. */
+static void leave(int rc)
+{
+    fflush(NULL);
+    if (orphaned) _exit(rc);
+    MPI_Abort(MPI_COMM_WORLD, rc);
+}
+
+/* Wait for a request without spinning; 0 when done, -1 on a stop. */
 static int wait_request(MPI_Request *r, MPI_Status *st)
 {
     int done = 0;
     for (;;) {
         MPI_Test(r, &done, st);
         if (done) return 0;
-        if (stop_signal) return -1;
+        if (stopping()) return -1;
         nap();
     }
 }
@@ -160,7 +192,7 @@ static int rank0(sf_sweep *sw, const char *exe, int size, int quiet)
     dispatcher d = {sw, exe, quiet, 0, 0, 0, 0.0, 0};
     int *idle = calloc((size_t)size, sizeof *idle), nidle = 0;
     if (!idle) MPI_Abort(MPI_COMM_WORLD, 3);
-    while (!stop_signal) {
+    while (!stopping()) {
         int busy = serve(&d, idle, &nidle);
         busy |= own_work(&d);
         if (!d.own && nidle == size - 1 && d.next >= sw->plan->nvariants) break;
@@ -176,9 +208,7 @@ static int rank0(sf_sweep *sw, const char *exe, int size, int quiet)
             kill(d.own, SIGTERM);
             waitpid(d.own, NULL, 0);
         }
-        int rc = sf_sweep_finish(sw, stop_signal, d.ran);
-        fflush(NULL);
-        MPI_Abort(MPI_COMM_WORLD, rc);
+        leave(sf_sweep_finish(sw, stop_signal, d.ran));
     }
     return sf_sweep_finish(sw, 0, d.ran);
 }
@@ -201,15 +231,18 @@ static void worker(const sf_sweep_plan *pl, const char *dir, const char *exe)
         double t0 = sf_sweep_now();
         if (sf_sweep_spawn(pl, dir, v, exe, &pid, &err)) die(&err);
         int ws = 0, killed = 0;
-        while (waitpid(pid, &ws, 0) < 0) {
-            if (errno != EINTR) {
+        for (;;) {   /* polled, to see a vanished launcher; SIGCHLD ends the nap */
+            pid_t r = waitpid(pid, &ws, WNOHANG);
+            if (r == pid) break;
+            if (r < 0 && errno != EINTR) {
                 sf_fail(&err, SF_EIO, "sweep: waitpid: %s", strerror(errno));
                 die(&err);
             }
-            if (stop_signal && !killed) {
+            if (stopping() && !killed) {
                 kill(pid, SIGTERM);
                 killed = 1;
             }
+            if (r == 0) nap();
         }
         if (stop_signal) _exit(128 + stop_signal);
         char *row = sf_sweep_collect(pl, dir, v, ws, sf_sweep_now() - t0);
@@ -221,6 +254,7 @@ static void worker(const sf_sweep_plan *pl, const char *dir, const char *exe)
 
 int main(int argc, char **argv)
 {
+    launcher = getppid();
     MPI_Init(&argc, &argv);
     catch_signals();
     int rank, size;
