@@ -5,3 +5,5 @@ TESTS += tests/test_bifurcation
 tests_test_bifurcation_SOURCES = tests/test_bifurcation.c
 tests_test_bifurcation_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_bifurcation_LDADD = $(SF_TEST_LIBS)
+# helpers shared by test_bifurcation, test_stability and test_multibp
+EXTRA_DIST += tests/stab_test.h

@@ -29,17 +29,10 @@
 #include "multibp.h"
 #include "stability.h"
 #include "sf_test.h"
+#include "stab_test.h"
 
 #define NG 8
 #define MAXF 64
-
-#define CHECK_OK_ERR(call, e)                                                   \
-    do {                                                                        \
-        if ((call) != SF_OK) {                                                  \
-            print_error("%s: %s\n", #call, (e).msg);                            \
-            fail();                                                             \
-        }                                                                       \
-    } while (0)
 
 /* perm[g][f]: the fold that element g of D4 maps fold f to. */
 static void d4_perms(const sf_study *s, int perm[NG][MAXF])
@@ -113,27 +106,22 @@ static void check_orbits(const char *what, int nf, int perm[NG][MAXF], const dou
     }
 }
 
-/* The double crossing of the flat branch: bisection on eig2 at y = 0. */
+/* The double crossing of the flat branch: bisection on eig2 at y = 0
+ * (eig3 is below zero too at the upper end). */
 static double flat_bp2(sf_equil *eq)
 {
     sf_stab st;
     sf_error err;
     sf_error_clear(&err);
-    CHECK_OK_ERR(sf_stab_init(&st, eq, SF_EIG_DENSE, 4, &err), err);
+    CHECK_OK(sf_stab_init(&st, eq, SF_EIG_DENSE, 4, &err), err);
     double *y = calloc((size_t)eq->n, sizeof(double)), a = 0.296, b = 0.31;
     assert_non_null(y);
-    CHECK_OK_ERR(sf_stab_eval(&st, eq, y, a, &err), err);
-    assert_true(st.res.eig[1] > 0);
-    CHECK_OK_ERR(sf_stab_eval(&st, eq, y, b, &err), err);
-    assert_true(st.res.eig[1] < 0 && st.res.eig[2] < 0);
-    for (int it = 0; it < 60; it++) {
-        double m = 0.5 * (a + b);
-        CHECK_OK_ERR(sf_stab_eval(&st, eq, y, m, &err), err);
-        if (st.res.eig[1] > 0) a = m; else b = m;
-    }
+    CHECK_OK(sf_stab_eval(&st, eq, y, b, &err), err);
+    assert_true(st.res.eig[2] < 0);
+    double p = flat_zero(&st, eq, y, 1, a, b);
     free(y);
     sf_stab_free(&st);
-    return 0.5 * (a + b);
+    return p;
 }
 
 static void test_library(void **state)
@@ -146,13 +134,13 @@ static void test_library(void **state)
     sf_equil eq;
     sf_error err;
     sf_error_clear(&err);
-    CHECK_OK_ERR(sf_equil_init(&eq, &sc.model, SF_PARAM_LOAD, -1, 0, 2, 0.0, &err), err);
+    CHECK_OK(sf_equil_init(&eq, &sc.model, SF_PARAM_LOAD, -1, 0, 2, 0.0, &err), err);
     sf_equil_use_penalty(&eq, sc.study.penalty_rotation, sc.study.penalty_translation);
     double p2 = flat_bp2(&eq);
     double *y0 = calloc((size_t)eq.n, sizeof(double));
     assert_non_null(y0);
     sf_mbp M;
-    CHECK_OK_ERR(sf_mbp_directions(&eq, y0, p2, 2, 0.02, 0.05, &M, &err), err);
+    CHECK_OK(sf_mbp_directions(&eq, y0, p2, 2, 0.02, 0.05, &M, &err), err);
     assert_int_equal(M.order, 3);   /* z -> -z symmetry: no quadratic part */
     int nf = sc.model.nfolds, n = eq.n;
     double *th = calloc((size_t)M.ndir * nf, sizeof(double)), *F = calloc((size_t)n, sizeof(double));
