@@ -34,102 +34,9 @@
 #include "stability.h"
 #include "sf_test.h"
 #include "stab_test.h"
+#include "tsv_test.h"
 
-/* ---- TSV files written by smoothfold run ----------------------------- */
-
-typedef struct tsv {
-    int ncol, nrow;
-    char **name;
-    char ***cell;     /* [row][col] strings ("" for an empty field) */
-    char header[4096];/* the # comment lines */
-} tsv;
-
-static void tsv_read(tsv *t, const char *path)
-{
-    memset(t, 0, sizeof *t);
-    FILE *f = fopen(path, "r");
-    if (!f) print_error("cannot open %s\n", path);
-    assert_non_null(f);
-    char line[65536];
-    int cap = 0;
-    while (fgets(line, sizeof line, f)) {
-        size_t L = strlen(line);
-        while (L && (line[L - 1] == '\n' || line[L - 1] == '\r')) line[--L] = '\0';
-        if (line[0] == '#') {
-            /* keep what fits (a run with many branches has long notes) */
-            size_t used = strlen(t->header), room = sizeof t->header - used;
-            if (room > 2) {
-                size_t k = L < room - 2 ? L : room - 2;
-                memcpy(t->header + used, line, k);
-                memcpy(t->header + used + k, "\n", 2);
-            }
-            continue;
-        }
-        if (L == 0) continue; /* block separator */
-        char **fields = NULL;
-        int nf = 0;
-        char *p = line;
-        for (;;) {
-            char *tab = strchr(p, '\t');
-            if (tab) *tab = '\0';
-            fields = realloc(fields, sizeof(char *) * (size_t)(nf + 1));
-            fields[nf++] = strdup(p);
-            if (!tab) break;
-            p = tab + 1;
-        }
-        if (!t->name) {
-            t->name = fields;
-            t->ncol = nf;
-            continue;
-        }
-        assert_int_equal(nf, t->ncol);
-        if (t->nrow == cap) {
-            cap = cap ? 2 * cap : 64;
-            t->cell = realloc(t->cell, sizeof(char **) * (size_t)cap);
-        }
-        t->cell[t->nrow++] = fields;
-    }
-    fclose(f);
-    assert_non_null(t->name);
-}
-
-static int tsv_col(const tsv *t, const char *name)
-{
-    for (int i = 0; i < t->ncol; i++)
-        if (strcmp(t->name[i], name) == 0) return i;
-    print_error("no column %s\n", name);
-    fail();
-    return -1;
-}
-
-static double tsv_num(const tsv *t, int row, const char *name)
-{
-    const char *s = t->cell[row][tsv_col(t, name)];
-    char *end;
-    double v = strtod(s, &end);
-    if (end == s || *end) {
-        print_error("row %d column %s: '%s' is not a number\n", row, name, s);
-        fail();
-    }
-    return v;
-}
-
-static const char *tsv_str(const tsv *t, int row, const char *name)
-{
-    return t->cell[row][tsv_col(t, name)];
-}
-
-static void tsv_free(tsv *t)
-{
-    for (int r = 0; r < t->nrow; r++) {
-        for (int c = 0; c < t->ncol; c++) free(t->cell[r][c]);
-        free(t->cell[r]);
-    }
-    for (int c = 0; c < t->ncol; c++) free(t->name[c]);
-    free(t->name);
-    free(t->cell);
-    memset(t, 0, sizeof *t);
-}
+/* ---- TSV files written by smoothfold run (tsv_test.h) -------------- */
 
 /* Every field of every row is a finite number, except `type` and empty
  * eigenvalue fields. */
@@ -153,16 +60,8 @@ static void tsv_all_finite(const tsv *t)
 static void run_study(const char *study, char *dir, size_t n, const char *extra)
 {
     const char *b = getenv("SF_BUILDDIR");
-    const char *sdir = getenv("SF_SRCDIR");
-    if (!b) b = ".";
-    if (!sdir) sdir = SF_SRCDIR;
-    snprintf(dir, n, "%s/tests/stab-out/%s%s", b, study, extra && extra[0] ? "-x" : "");
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s' && '%s/src/smoothfold' run '%s/studies/%s.cfg' -o '%s' -q %s",
-             dir, b, sdir, study, dir, extra ? extra : "");
-    int rc = system(cmd);
-    if (rc != 0) print_error("%s: exit %d\n", cmd, rc);
-    assert_int_equal(rc, 0);
+    snprintf(dir, n, "%s/tests/stab-out/%s%s", b ? b : ".", study, extra && extra[0] ? "-x" : "");
+    tsv_run(study, dir, extra);
 }
 
 static void read_out(const char *dir, const char *file, tsv *t)
