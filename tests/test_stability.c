@@ -64,6 +64,16 @@ static void run_study(const char *study, char *dir, size_t n, const char *extra)
     tsv_run(study, dir, extra);
 }
 
+/* Move the output of a first run aside, to DIR.dense (returned in keep),
+ * before a second run of the same study writes DIR. */
+static void keep_dense(const char *dir, char *keep, size_t n)
+{
+    snprintf(keep, n, "%s.dense", dir);
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mv '%s' '%s'", keep, dir, keep);
+    assert_int_equal(system(cmd), 0);
+}
+
 static void read_out(const char *dir, const char *file, tsv *t)
 {
     char p[2048];
@@ -220,10 +230,7 @@ static void compare_solvers(const char *study, const char *extra)
     snprintf(x2, sizeof x2, "--set analysis.eigensolver=\\\"arpack\\\" --set analysis.step_bound=false %s", extra);
     run_study(study, d1, sizeof d1, x1);
     char keep[1100];
-    snprintf(keep, sizeof keep, "%s.dense", d1);
-    char cmd[2300];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mv '%s' '%s'", keep, d1, keep);
-    assert_int_equal(system(cmd), 0);
+    keep_dense(d1, keep, sizeof keep);
     run_study(study, d2, sizeof d2, x2);
     tsv A, B;
     read_out(keep, "branch.tsv", &A);
@@ -319,11 +326,9 @@ static void test_arpack_retry_unknown(void **state)
 static void test_sparse_switching(void **state)
 {
     (void)state;
-    char d1[1024], d2[1024], keep[1100], cmd[2300];
+    char d1[1024], d2[1024], keep[1100];
     run_study("fold1-buckle", d1, sizeof d1, "--set output.shapes=0");
-    snprintf(keep, sizeof keep, "%s.dense", d1);
-    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mv '%s' '%s'", keep, d1, keep);
-    assert_int_equal(system(cmd), 0);
+    keep_dense(d1, keep, sizeof keep);
     run_study("fold1-buckle", d2, sizeof d2,
               "--set output.shapes=0 --set solver.linear_solver=\\\"sparse\\\"");
     tsv A, B;
