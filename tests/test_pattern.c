@@ -206,11 +206,12 @@ static void test_miura_rigid_mode(void **state)
         sf_error_clear(&e);
         assert_int_equal(sf_gen_defaults("miura", &o, &e), SF_OK);
         o.angle = angles[k];
+        o.fold_angle = 20 + 50 * k;   /* 20, 70, 120 degrees */
         sf_cpattern cp;
         CHECK_OK(sf_generate("miura", &o, &cp, &e), e);
         int checked = 0;
         for (int v = 0; v < cp.nv; v++) {
-            double ang[4], sg[4];
+            double ang[4], sg[4], tg[4];
             int n = 0, boundary = 0;
             for (int i = 0; i < cp.ne; i++) {
                 if (cp.e[i].a != v && cp.e[i].b != v) continue;
@@ -220,6 +221,8 @@ static void test_miura_rigid_mode(void **state)
                     double t = atan2(cp.v[o2].x[1] - cp.v[v].x[1], cp.v[o2].x[0] - cp.v[v].x[0]);
                     ang[n] = t < 0 ? t + 2 * M_PI : t;
                     sg[n] = cp.e[i].assign == 'V' ? 1 : -1;
+                    tg[n] = cp.e[i].angle;
+                    if (cp.e[i].assign != 'B') assert_true(tg[n] * sg[n] > 0);
                 }
                 n++;
             }
@@ -228,6 +231,7 @@ static void test_miura_rigid_mode(void **state)
                 for (int b = a; b > 0 && ang[b] < ang[b - 1]; b--) {
                     double t = ang[b]; ang[b] = ang[b - 1]; ang[b - 1] = t;
                     t = sg[b]; sg[b] = sg[b - 1]; sg[b - 1] = t;
+                    t = tg[b]; tg[b] = tg[b - 1]; tg[b - 1] = t;
                 }
             /* fix a zigzag crease (one without a collinear partner): the
              * straight line alone folding is another rigid motion, with
@@ -240,10 +244,21 @@ static void test_miura_rigid_mode(void **state)
                 if (!partner) c0 = c;
             }
             assert_true(c0 >= 0);
-            double a2[4], s2[4];
-            for (int c = 0; c < 4; c++) { a2[c] = ang[(c + c0) % 4]; s2[c] = sg[(c + c0) % 4]; }
+            double a2[4], s2[4], t2[4];
+            for (int c = 0; c < 4; c++) {
+                a2[c] = ang[(c + c0) % 4]; s2[c] = sg[(c + c0) % 4]; t2[c] = tg[(c + c0) % 4];
+            }
             memcpy(ang, a2, sizeof ang);
             memcpy(sg, s2, sizeof sg);
+            memcpy(tg, t2, sizeof tg);
+            /* the pattern's own target angles close the loop: they are a
+             * state of the rigid folding motion (to 1e-10: the crease
+             * directions come from coordinates rounded to 12 digits) */
+            double rg[4], f[3];
+            for (int c = 0; c < 4; c++) rg[c] = tg[c] * M_PI / 180;
+            closure(ang, rg, f);
+            CHECK_CLOSE(fabs(f[0]) + fabs(f[1]) + fabs(f[2]), 0.0, 1e-10,
+                        "angle %g, vertex %d: loop closure at the target angles", o.angle, v);
             double r[4] = {0.3 * sg[0], 0.3 * sg[1], 0.3 * sg[2], 0.3 * sg[3]};
             assert_true(solve_closure(ang, r));
             for (int c = 0; c < 4; c++) {

@@ -182,6 +182,7 @@ static int cmd_pattern(char **argv, popts *p, sf_error *err)
     if (p->have_cells) { g.m = p->g.m; g.n = p->g.n; }
     if (p->have_size) { g.a = p->g.a; g.b = p->g.b; }
     if (p->have_angle) g.angle = p->g.angle;
+    g.fold_angle = p->s.fold_angle * 180 / M_PI;
     if (p->have_angle && strcmp(name, "miura") != 0)
         return sf_fail(err, SF_EINPUT, "pattern %s: --angle applies to miura only", name);
     sf_cpattern cp;

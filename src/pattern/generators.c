@@ -15,7 +15,7 @@ int sf_gen_defaults(const char *name, sf_gen_opts *o, sf_error *err)
     o->m = 2;
     o->n = 2;
     if (strcmp(name, "miura") == 0) {
-        o->a = 0.04; o->b = 0.04; o->angle = 60;
+        o->a = 0.04; o->b = 0.04; o->angle = 60; o->fold_angle = 180 / M_PI;
     } else if (strcmp(name, "yoshimura") == 0) {
         o->a = 0.06; o->b = 0.03;
     } else if (strcmp(name, "waterbomb") == 0) {
@@ -56,16 +56,18 @@ static int miura(const sf_gen_opts *o, sf_cpattern *cp, sf_error *err)
      * opposite to the zigzag's, the one outside the zigzag's sign (three
      * of one kind, one of the other: Maekawa), the rigid folding mode of
      * the vertex (tests/test_pattern.c solves its loop closure) */
+    /* rigid folding: tan(r_straight / 2) = cos(angle) tan(r_zigzag / 2) */
+    double rz = o->fold_angle, rs = 2 * atan(cos(g) * tan(0.5 * rz * M_PI / 180)) * 180 / M_PI;
     for (int j = 0; j <= nj; j++)
         for (int i = 0; i < ni; i++) {
-            int s = i % 2 ? -1 : 1;
-            char as = (j == 0 || j == nj) ? 'B' : mv(j % 2 ? s : -s);
-            OOM(sf_cp_add_edge(cp, VID(i, j), VID(i + 1, j), as, NAN));
+            int s = i % 2 ? -1 : 1, sg = j % 2 ? s : -s;
+            int bd = j == 0 || j == nj;
+            OOM(sf_cp_add_edge(cp, VID(i, j), VID(i + 1, j), bd ? 'B' : mv(sg), bd ? NAN : sg * rs));
         }
     for (int i = 0; i <= ni; i++)
         for (int j = 0; j < nj; j++) {
-            char as = (i == 0 || i == ni) ? 'B' : mv(i % 2 ? -1 : 1);
-            OOM(sf_cp_add_edge(cp, VID(i, j), VID(i, j + 1), as, NAN));
+            int sg = i % 2 ? -1 : 1, bd = i == 0 || i == ni;
+            OOM(sf_cp_add_edge(cp, VID(i, j), VID(i, j + 1), bd ? 'B' : mv(sg), bd ? NAN : sg * rz));
         }
 #undef VID
     snprintf(cp->description, sizeof cp->description,
@@ -199,6 +201,8 @@ int sf_generate(const char *name, const sf_gen_opts *o, sf_cpattern *cp, sf_erro
         return sf_fail(err, SF_EINPUT, "%s: cells %dx%d: each count must be in 1..50", name, o->m, o->n);
     if (!(o->a > 0) || !(o->b > 0) || !isfinite(o->a) || !isfinite(o->b))
         return sf_fail(err, SF_EINPUT, "%s: panel sizes %gx%g: must be positive", name, o->a, o->b);
+    if (strcmp(name, "miura") == 0 && !(o->fold_angle > 0 && o->fold_angle < 180))
+        return sf_fail(err, SF_EINPUT, "miura: fold angle %g degrees: must be in (0, 180)", o->fold_angle);
     if (strcmp(name, "miura") == 0 && !(o->angle > 0 && o->angle < 90))
         return sf_fail(err, SF_EINPUT, "miura: sector angle %g degrees: must be in (0, 90)", o->angle);
     snprintf(cp->title, sizeof cp->title, "%s-%dx%d", name, o->m, o->n);

@@ -3,7 +3,8 @@
  *
  *   miura      Miura-ori: m x n cells of 2 x 2 parallelogram panels with
  *              straight sides a (along x) and zigzag sides b at the sector
- *              angle (degrees, 0 < angle < 90) to the x axis
+ *              angle (degrees, 0 < angle < 90) to the x axis; target fold
+ *              angles (edges_foldAngle) of its rigid folding motion
  *   yoshimura  Yoshimura (diamond) pattern: m diamonds of width a along x,
  *              n rows of height b; horizontal creases mountain, diagonals
  *              valley
@@ -23,6 +24,9 @@ typedef struct sf_gen_opts {
     int m, n;          /* cells along x and y */
     double a, b;       /* panel (cell) sizes [m] */
     double angle;      /* miura: sector angle [deg] */
+    double fold_angle; /* miura: target angle of the zigzag folds [deg] (> 0);
+                          the straight folds get the rigid-folding partner
+                          2 atan(cos(angle) tan(fold_angle / 2)) */
 } sf_gen_opts;
 
 /* Names of the generators, for messages: "miura, yoshimura, waterbomb". */
