@@ -443,6 +443,20 @@ static int build_tree(topo_build *B)
     if (root < 0)
         return tp_fail_line(B, s->fixed_line, "fixed point (%g, %g) is outside the sheet",
                          s->fixed_point[0], s->fixed_point[1]);
+    {   /* on a crease line or a vertex the point names no one face */
+        int nface = 0, other = -1;
+        for (int f = 0; f < nf; f++) {
+            double m;
+            if (tp_poly_classify(t->faces[f].poly.n, t->faces[f].poly.p, s->fixed_point, t->tol, &m) >= 0) {
+                nface++;
+                if (f != root) other = f;
+            }
+        }
+        if (nface > 1)
+            return tp_fail_line(B, s->fixed_line, "fixed point (%g, %g) lies on the boundary between "
+                                "face %d and face %d (a fold line or a vertex): it must be inside one "
+                                "face", s->fixed_point[0], s->fixed_point[1], root + 1, other + 1);
+    }
     t->root = root;
     t->order = malloc(sizeof(int) * (size_t)(nf ? nf : 1));
     if (!t->order) return tp_nomem(B);
