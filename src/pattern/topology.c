@@ -443,7 +443,8 @@ static int build_tree(topo_build *B)
     if (root < 0)
         return tp_fail_line(B, s->fixed_line, "fixed point (%g, %g) is outside the sheet",
                          s->fixed_point[0], s->fixed_point[1]);
-    {   /* on a crease line or a vertex the point names no one face */
+    {   /* on a vertex shared by faces the point names no one face (on a
+         * fold line the face with the larger margin is taken, as before) */
         int nface = 0, other = -1;
         for (int f = 0; f < nf; f++) {
             double m;
@@ -452,10 +453,15 @@ static int build_tree(topo_build *B)
                 if (f != root) other = f;
             }
         }
-        if (nface > 1)
-            return tp_fail_line(B, s->fixed_line, "fixed point (%g, %g) lies on the boundary between "
-                                "face %d and face %d (a fold line or a vertex): it must be inside one "
-                                "face", s->fixed_point[0], s->fixed_point[1], root + 1, other + 1);
+        int vx = -1;
+        for (int v = 0; v < s->nvertices && vx < 0; v++)
+            if (hypot(s->vertices[v].x[0] - s->fixed_point[0],
+                      s->vertices[v].x[1] - s->fixed_point[1]) <= t->tol) vx = v;
+        if (nface > 1 && vx >= 0)
+            return tp_fail_line(B, s->fixed_line, "fixed point (%g, %g) is vertex %s, a corner of "
+                                "face %d and face %d: it must be inside one face",
+                                s->fixed_point[0], s->fixed_point[1], s->vertices[vx].name, root + 1,
+                                other + 1);
     }
     t->root = root;
     t->order = malloc(sizeof(int) * (size_t)(nf ? nf : 1));
