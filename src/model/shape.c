@@ -5,6 +5,7 @@
  * (G1, K = 0), whose chord has closed forms.
  */
 #include "shape.h"
+#include "pattern.h"   /* SF_QUADRATURE_MIN, SF_QUADRATURE_MAX */
 
 #include <math.h>
 #include <stdlib.h>
@@ -19,31 +20,31 @@ static void legendre(int nmax, double x, double *P)
         P[n + 1] = ((2.0 * n + 1.0) * x * P[n] - n * P[n - 1]) / (n + 1.0);
 }
 
+/* P_n(z) in *p; returns its derivative P_n'(z) (|z| < 1). */
+static double legendre_dp(int n, double z, double *p)
+{
+    double p0 = 1.0, p1 = z;
+    for (int k = 1; k < n; k++) {
+        double p2 = ((2.0 * k + 1.0) * z * p1 - k * p0) / (k + 1.0);
+        p0 = p1;
+        p1 = p2;
+    }
+    *p = p1;
+    return n * (z * p1 - p0) / (z * z - 1.0);
+}
+
 /* Gauss-Legendre rule with n points on [0, 1] (Newton on P_n). */
 static void gauss_legendre01(int n, double *x, double *w)
 {
     for (int i = 0; i < (n + 1) / 2; i++) {
-        double z = cos(M_PI * (i + 0.75) / (n + 0.5)), dp = 1.0;
+        double z = cos(M_PI * (i + 0.75) / (n + 0.5)), p;
         for (int it = 0; it < 100; it++) {
-            double p0 = 1.0, p1 = z;
-            for (int k = 1; k < n; k++) {
-                double p2 = ((2.0 * k + 1.0) * z * p1 - k * p0) / (k + 1.0);
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = n * (z * p1 - p0) / (z * z - 1.0);
-            double dz = p1 / dp;
+            double dp = legendre_dp(n, z, &p), dz = p / dp;
             z -= dz;
             if (fabs(dz) < 1e-16) break;
         }
-        /* recompute the derivative at the converged node */
-        double p0 = 1.0, p1 = z;
-        for (int k = 1; k < n; k++) {
-            double p2 = ((2.0 * k + 1.0) * z * p1 - k * p0) / (k + 1.0);
-            p0 = p1;
-            p1 = p2;
-        }
-        dp = n * (z * p1 - p0) / (z * z - 1.0);
+        /* the derivative at the converged node */
+        double dp = legendre_dp(n, z, &p);
         double wt = 2.0 / ((1.0 - z * z) * dp * dp);
         /* map from [-1, 1] to [0, 1] */
         x[i] = 0.5 * (1.0 - z);
@@ -62,8 +63,9 @@ int sf_section_init(sf_section *sec, double w, int continuity, int K,
         return sf_fail(err, SF_EINPUT, "continuity must be 1 or 2 (got %d)", continuity);
     if (K < 0 || K > 64)
         return sf_fail(err, SF_EINPUT, "number of shape modes must be in 0..64 (got %d)", K);
-    if (nquad < 2 || nquad > 512)
-        return sf_fail(err, SF_EINPUT, "quadrature order must be in 2..512 (got %d)", nquad);
+    if (nquad < SF_QUADRATURE_MIN || nquad > SF_QUADRATURE_MAX)
+        return sf_fail(err, SF_EINPUT, "quadrature order must be in %d..%d (got %d)",
+                       SF_QUADRATURE_MIN, SF_QUADRATURE_MAX, nquad);
     sec->w = w;
     sec->continuity = continuity;
     sec->K = K;
