@@ -295,7 +295,7 @@ static void check_agree(const agree_case *c, const char *sdir)
     double *y0 = calloc(fq.n + 1, sizeof *y0);
     if (fq.nloop > 0) {
         double p1 = start + dir * fmin(step, 0.25 * fabs(end - start));
-        if (sf_equil_start_flat(&fq, fs, start, p1, dir, 1e-13, y0, &err)) {
+        if (sf_equil_start_flat(&fq, fs, start, p1, dir, 1e-13, y0, 1, NULL, &err)) {
             print_error("%s: fold start: %s\n", c->study, err.msg);
             fail();
         }

@@ -198,7 +198,7 @@ static void test_sstab_retry(void **state)
     sf_sstab *st;
     sf_error err;
     sf_error_clear(&err);
-    sf_sstab_opts o = {.nev = 4, .maxiter = 1};
+    sf_sstab_opts o = {.nev = 4, .maxiter = 1, .tol = 1e-13};
     assert_int_equal(sf_sstab_create(&st, NCH, 3, &o, &err), SF_OK);
     assert_int_equal(sf_sstab_eval(st, &P.H, &P.C, &err), SF_OK);
     const sf_sstab_result *R = sf_sstab_get(st);
@@ -221,7 +221,7 @@ static void test_sstab_unknown(void **state)
         sf_sstab *st;
         sf_error err;
         sf_error_clear(&err);
-        sf_sstab_opts o = {.nev = 4, .maxiter = 1, .attempts = 1};
+        sf_sstab_opts o = {.nev = 4, .maxiter = 1, .attempts = 1, .tol = 1e-13};
         assert_int_equal(sf_sstab_create(&st, NCH, 3, &o, &err), SF_OK);
         assert_int_equal(sf_sstab_eval(st, &P.H, &P.C, &err), SF_OK);
         const sf_sstab_result *R = sf_sstab_get(st);

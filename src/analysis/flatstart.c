@@ -38,6 +38,8 @@
  */
 #include "flatstart.h"
 
+#include "flatcone.h"
+
 #include "cont.h"
 
 #include <math.h>
@@ -181,6 +183,16 @@ static double maxabs(const double *v, int n)
     double m = 0.0;
     for (int i = 0; i < n; i++) m = fmax(m, fabs(v[i]));
     return m;
+}
+
+double sf_limit_residual(const sf_limit *L, const double *z)
+{
+    double *E = calloc((size_t)L->n + 1, sizeof(double));
+    if (!E) return INFINITY;
+    limit_eval(L, z, 0.0, E, NULL);
+    double e = maxabs(E, L->n);
+    free(E);
+    return e;
 }
 
 /* Solution of A x = b by LU (LAPACK dgesv; A n x n column-major,
@@ -427,10 +439,97 @@ double sf_limit_solve(const sf_limit *Lp, double *z, int maxit, int *iters)
     return en;
 }
 
+#define CONE_STARTS 1      /* starts of the search on the tangent cone */
+#define HOMOTOPY_SHORT 2000 /* Newton iterations of the homotopy as a candidate */
+#define TIE_RTOL 1e-7      /* branches of equal energy: the driving selects none */
+
+/* The branch from the tangent cone (flatcone.h): the stable solution of
+ * the limit problem of lowest energy, or the pick-th stable one by
+ * energy.  *en receives its residual (2 when there is none: the caller
+ * falls back to the eps homotopy).  info->note says what was found and
+ * what was chosen. */
+static int cone_start(sf_equil *q, const sf_limit *L, int pick, double *z, double *en,
+                      sf_flatstart_info *info, sf_error *err)
+{
+    const char *path = q->m->study->path;
+    *en = 2.0;
+    if (maxabs(L->c1, L->n1) != 0.0) return SF_OK;   /* a prescribed displacement: the homotopy */
+    /* the eps homotopy (a short one) as a further candidate: it follows
+     * the driving's response continuously and finds branches the descent
+     * may miss (miura-2x2's lowest) */
+    double *zh = calloc((size_t)L->n + 1, sizeof(double));
+    if (!zh) return sf_fail(err, SF_ENOMEM, "out of memory");
+    double eh = sf_limit_solve(L, zh, HOMOTOPY_SHORT, NULL);
+    sf_cone C;
+    int fr = sf_cone_find(L, CONE_STARTS, eh >= 0 && eh <= LIMIT_TOL * 1e3 ? zh : NULL, &C);
+    free(zh);
+    if (fr)
+        return sf_fail(err, SF_ENOMEM, "%s: flat start: out of memory (or a LAPACK failure) on "
+                       "the tangent cone", path);
+    int ns = 0, first = -1, chosen = -1, nties = 0;
+    for (int i = 0; i < C.nb; i++) {
+        if (!C.stable[i] || !(C.resid[i] <= LIMIT_TOL * 1e3)) continue;
+        if (first < 0) first = i;
+        if (++ns == pick) chosen = i;
+        if (fabs(C.energy[i] - C.energy[first]) <= TIE_RTOL * fabs(C.energy[first])) nties++;
+    }
+    char note[sizeof info->note];
+    note[0] = 0;
+    int rc = SF_OK;
+    if (C.k > 0 && C.ncone == 0) {
+        snprintf(note, sizeof note, "flat start: no branch on the tangent cone along the driving "
+                 "(%d first-order motions, %d independent second-order loop conditions on them; "
+                 "the search from the driving's response ends at the flat state): exact closure "
+                 "may lock the sheet at the flat state; try more fold modes (defaults.modes), "
+                 "another driving, or solver.constraints = \"penalty\"", C.k, C.r);
+    } else if (C.nb == 0) {
+        snprintf(note, sizeof note, "the driving does no first-order work on the %d-dimensional "
+                 "tangent cone of the flat state (%d cone points found)", C.k, C.ncone);
+    } else if (ns == 0) {
+        chosen = 0;
+        snprintf(note, sizeof note, "flat start: none of the %d branches of the tangent cone is "
+                 "stable; following the one of lowest energy", C.nb);
+    } else if (chosen < 0) {
+        rc = sf_fail(err, SF_EINPUT, "%s: solver.flat_branch = %d, but the flat state has %d "
+                     "stable branch%s (1..%d, by energy)", path, pick, ns, ns == 1 ? "" : "es", ns);
+    } else if (nties > 1) {
+        snprintf(note, sizeof note, "flat start: the driving selects no single branch: %d stable "
+                 "branches leave the flat state with the same energy (a symmetric start); "
+                 "following branch %d of %d, solver.flat_branch = 1..%d selects another", nties,
+                 pick, ns, ns);
+    } else {
+        snprintf(note, sizeof note, "flat start: %d stable branch%s on the tangent cone "
+                 "(%d first-order motions, %d second-order conditions); following branch %d "
+                 "(%s energy)", ns, ns == 1 ? "" : "es", C.k, C.r, pick,
+                 pick == 1 ? "lowest" : "by");
+    }
+    if (info) {
+        snprintf(info->note, sizeof info->note, "%s", note);
+        info->cone_dim = C.k;
+        info->cone_forms = C.r;
+        info->branches = ns;
+        info->ties = nties;
+        info->chosen = chosen >= 0 ? pick : 0;
+    }
+    if (rc == SF_OK && chosen >= 0) {
+        memcpy(z, C.z + (size_t)chosen * L->n, sizeof(double) * (size_t)L->n);
+        *en = C.resid[chosen];
+    }
+    sf_cone_free(&C);
+    return rc;
+}
+
 int sf_equil_start_limit(sf_equil *q, double p0, double p1, double *y, sf_flatstart_info *info,
                          sf_error *err)
 {
+    return sf_equil_start_limit_branch(q, p0, p1, 1, y, info, err);
+}
+
+int sf_equil_start_limit_branch(sf_equil *q, double p0, double p1, int branch, double *y,
+                                sf_flatstart_info *info, sf_error *err)
+{
     const sf_model *m = q->m;
+    int pick = branch > 0 ? branch : 1;
     if (info) memset(info, 0, sizeof *info);
     if (q->ncon == 0)
         return sf_fail(err, SF_EINPUT, "%s: the limit start needs constraint rows", m->study->path);
@@ -444,10 +543,18 @@ int sf_equil_start_limit(sf_equil *q, double p0, double p1, double *y, sf_flatst
         goto done;
     }
     int it = 0;
-    double en = sf_limit_solve(&L, z, 20000, &it);
-    if (en < 0) {
-        rc = sf_fail(err, SF_ENOMEM, "out of memory");
-        goto done;
+    double en = 2.0;
+    rc = cone_start(q, &L, pick, z, &en, info, err);
+    if (rc == SF_ENOMEM || rc == SF_EINPUT) goto done;
+    rc = SF_OK;
+    if (!(en <= LIMIT_TOL * 1e3)) {
+        /* no branch on the cone (the driving acts at second order only,
+         * e.g. in-plane loads): the eps homotopy */
+        en = sf_limit_solve(&L, z, 20000, &it);
+        if (en < 0) {
+            rc = sf_fail(err, SF_ENOMEM, "out of memory");
+            goto done;
+        }
     }
     if (info) {
         info->iterations = it;
@@ -457,7 +564,8 @@ int sf_equil_start_limit(sf_equil *q, double p0, double p1, double *y, sf_flatst
     }
     if (!(en <= LIMIT_TOL * 1e3)) {
         rc = sf_fail(err, SF_ENUMERIC, "%s: the limit problem of the flat state does not converge "
-                     "(residual %.3g after %d iterations)", m->study->path, en, it);
+                     "(residual %.3g after %d iterations)%s%s", m->study->path, en, it,
+                     info && info->note[0] ? "; " : "", info ? info->note : "");
         goto done;
     }
     /* back to the unknowns of the exact problem at p1 */
@@ -477,11 +585,13 @@ done:
 }
 
 int sf_equil_start_flat(sf_equil *q, struct cont_solver *cs, double p0, double p1, int dir,
-                        double tol, double *y, sf_error *err)
+                        double tol, double *y, int branch, sf_flatstart_info *info, sf_error *err)
 {
     sf_error lerr;
     sf_error_clear(&lerr);
-    int rc = sf_equil_start_limit(q, p0, p1, y, NULL, &lerr);
+    int rc = sf_equil_start_limit_branch(q, p0, p1, branch, y, info, &lerr);
+    if (rc == SF_EINPUT && lerr.code == SF_EINPUT && strstr(lerr.msg, "solver.flat_branch"))
+        return sf_fail(err, rc, "%s", lerr.msg);
     if (rc == SF_OK && cont_start(cs, y, p1, dir) == CONT_OK) return SF_OK;
     /* the penalty homotopy (sf_equil_start_off_flat) as the fallback */
     char why[1100];

@@ -43,6 +43,12 @@ typedef struct sf_flatstart_info {
     double residual;         /* its final scaled residual */
     int first_order_rows;    /* loop-row combinations with a gradient at q = 0 */
     int second_order_rows;   /* combinations of zero gradient at q = 0 */
+    int cone_dim;            /* first-order motions (kernel of those rows) */
+    int cone_forms;          /* independent second-order conditions on them */
+    int branches;            /* stable branches found on the tangent cone */
+    int ties;                /* of them, sharing the lowest energy */
+    int chosen;              /* the one followed (1-based), 0: none */
+    char note[600];          /* what was found and chosen, for the output */
 } sf_flatstart_info;
 
 /* Guess y (q->n values) of the exact problem at p1 near the flat state,
@@ -52,13 +58,23 @@ typedef struct sf_flatstart_info {
 int sf_equil_start_limit(sf_equil *q, double p0, double p1, double *y,
                          sf_flatstart_info *info, sf_error *err);
 
+/* The same, following the branch-th stable branch of the tangent cone by
+ * energy (1: lowest; flatcone.h, solver.flat_branch).  Without a branch
+ * on the cone (the driving acts at second order only, a prescribed
+ * displacement) the eps homotopy of sf_limit_solve.  info->note says
+ * what the cone held and what was chosen.  SF_EINPUT when branch exceeds
+ * the stable branches found. */
+int sf_equil_start_limit_branch(sf_equil *q, double p0, double p1, int branch, double *y,
+                                sf_flatstart_info *info, sf_error *err);
+
 /* Start the continuation solver cs (created for q) at p1 off the flat
  * state, which solves the problem at p0: cont_start from the limit guess,
  * and if that fails from sf_equil_start_off_flat's penalty homotopy.  y
  * (q->n values) receives the guess used.  SF_OK, or the error with both
- * reasons. */
+ * reasons.  branch and info (may be NULL) as for
+ * sf_equil_start_limit_branch. */
 struct cont_solver;
 int sf_equil_start_flat(sf_equil *q, struct cont_solver *cs, double p0, double p1, int dir,
-                        double tol, double *y, sf_error *err);
+                        double tol, double *y, int branch, sf_flatstart_info *info, sf_error *err);
 
 #endif

@@ -37,6 +37,7 @@ struct sf_sstab {
     cholmod_common cc;
     double *b;             /* n + m */
     double scale, gersh;
+    double below;          /* a shift below every eigenvalue of H_c (unstable points) */
     sf_sstab_result res;
 };
 
@@ -65,7 +66,7 @@ int sf_sstab_create(sf_sstab **out, int n, int m, const sf_sstab_opts *opts, sf_
     if (s->o.nev < 1) s->o.nev = 1;
     if (s->o.maxiter < 1) s->o.maxiter = 1000;
     if (s->o.attempts < 1) s->o.attempts = 4;
-    if (!(s->o.tol > 0)) s->o.tol = 1e-13;
+    if (!(s->o.tol > 0)) s->o.tol = 1e-10;
     s->rs = calloc((size_t)m + 1, sizeof(double));
     s->rnew = calloc((size_t)m + 1, sizeof(int));
     s->b = calloc((size_t)(n + m) + 1, sizeof(double));
@@ -394,7 +395,7 @@ static int sturm_check(sf_sstab *s, const double *ev, int nev, int rank, int nnu
                        sf_error *err)
 {
     int k = s->o.nev < nev ? s->o.nev : nev;
-    double gap = 1e-6 * fmax(s->scale, fabs(ev[nev - 1]));
+    double gap = 1e-6 * fmax(fabs(ev[0]), fabs(ev[nev - 1])) + 1e-14 * s->scale;
     int j = k;
     while (j < nev && ev[j] - ev[j - 1] <= gap) j++;
     if (j >= nev) return 0;
@@ -420,9 +421,9 @@ static void attempt_plan(const sf_sstab *s, int a, int morse, double sigma0, int
     if (c > dim) c = dim;     /* the operator's rank (Krylov space beyond: zeros) */
     if (c < nev + 1) c = nev + 1;
     *ncv = c > s->n ? s->n : c;
-    double below = fmin(s->gersh, sigma0) - 1e-3 * s->scale;
-    if (morse == 0) *sigma = a < 2 ? sigma0 : sigma0 - 1e-2 * (double)(a - 1) * s->scale;
-    else *sigma = a < 2 ? below : below - 0.5 * (double)(a - 1) * s->scale;
+    double below = s->below, d = fabs(below - sigma0);
+    if (morse == 0) *sigma = a < 2 ? sigma0 : sigma0 - 1e-3 * (double)(a - 1) * s->scale;
+    else *sigma = a < 2 ? below : below - 0.5 * (double)(a - 1) * d;
 }
 
 typedef struct found {
@@ -444,6 +445,8 @@ static int eigen_attempts(sf_sstab *s, double sigma0, int morse0, int *done, sf_
         add_reason(R, "tangent space of dimension %d too small for ARPACK", R->dim);
         return SF_OK;
     }
+    sf_error e2;
+    sf_error_clear(&e2);
     found F = {0, 4 * want + 2 * EXTRA, NULL, NULL, NULL};
     if (F.cap > R->dim) F.cap = R->dim;
     F.val = malloc(sizeof(double) * (size_t)F.cap * 2);
@@ -457,9 +460,32 @@ static int eigen_attempts(sf_sstab *s, double sigma0, int morse0, int *done, sf_
     }
     F.sorted = F.val + F.cap;
     double fs = sigma0; /* shift of the current factors */
+    if (morse0 > 0) {
+        /* a shift just below the spectrum, from the inertia: steps growing
+         * 4 times from sigma0 until no eigenvalue is left below (Gershgorin
+         * bounds the search) */
+        double step = SHIFT_REL * s->scale, t = sigma0;
+        int ng = 0, nn = 0, cnt = morse0;
+        for (int it = 0; it < 60 && cnt > 0; it++, step *= 4.0) {
+            t = sigma0 - step;
+            if (t < s->gersh) {
+                t = s->gersh - 1e-3 * s->scale;
+                break;
+            }
+            if (factor_at(s, t, &ng, &nn, &e2)) {
+                if (e2.code == SF_ENOMEM) {
+                    rc = sf_fail(err, SF_ENOMEM, "%s", e2.msg);
+                    goto out;
+                }
+                sf_error_clear(&e2);
+                continue;
+            }
+            cnt = nn == 0 ? ng - R->rank : 1;
+        }
+        s->below = t;
+        fs = NAN;
+    }
     int nev = want;
-    sf_error e2;
-    sf_error_clear(&e2);
     for (int a = 0; a < s->o.attempts && !*done; a++) {
         double sigma;
         int ncv, conv = 0, iters = 0, nn = 0, ng = 0;
@@ -567,20 +593,18 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
     }
     /* inertia at sigma0; a null pivot (Cr is independent, so it means an
      * eigenvalue of H_c at sigma0) moves the shift once */
-    double sigma0 = -SHIFT_REL * s->scale;
+    /* inertia at 0 (the index counts eigenvalues < 0, as the dense method);
+     * a null pivot (Cr is independent, so it means an eigenvalue of H_c at
+     * the shift: a mechanism) moves the shift just below zero */
+    const double shifts[3] = {0.0, -SHIFT_REL * s->scale, -3.0 * SHIFT_REL * s->scale};
+    double sigma0 = 0.0;
     int neg = 0, nnull = 0;
     sf_error e2;
     sf_error_clear(&e2);
-    rc = factor_at(s, sigma0, &neg, &nnull, &e2);
-    if (rc == SF_OK && nnull > 0) {
-        int neg1, nnull1;
-        if (factor_at(s, 3.0 * sigma0, &neg1, &nnull1, &e2) == SF_OK && nnull1 < nnull) {
-            sigma0 *= 3.0;
-            neg = neg1;
-            nnull = nnull1;
-        } else if (factor_at(s, sigma0, &neg, &nnull, &e2)) {
-            rc = e2.code;
-        }
+    for (int i = 0; i < 3; i++) {
+        sigma0 = shifts[i];
+        rc = factor_at(s, sigma0, &neg, &nnull, &e2);
+        if (rc || nnull == 0) break;
     }
     if (rc == SF_ENOMEM) return sf_fail(err, rc, "%s", e2.msg);
     if (rc) {

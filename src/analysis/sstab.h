@@ -20,8 +20,10 @@
  *    value lies near 1e-9 are ambiguous for either method;
  *  - K(sigma) = [HL - sigma I, Cr^T; Cr, 0] factorised by MUMPS (ldlt.h).
  *    Sylvester: neg(K) = neg(H_c - sigma) + r, so the Morse index is
- *    neg(K(sigma0)) - r, sigma0 = -1e-6 * max|diag HL| (an eigenvalue in
- *    [sigma0, 0) is counted from its computed value);
+ *    neg(K(0)) - r (when H_c is singular, at sigma0 = -1e-6 max|diag HL|,
+ *    an eigenvalue in [sigma0, 0) then counted from its computed value);
+ *    for an unstable point the ARPACK shift is placed just below the
+ *    spectrum by the same counts;
  *  - ARPACK (dsaupd/dseupd) in shift-invert on the pencil (K(0), diag(I,
  *    0)); each operator application is one MUMPS solve.  Every result is
  *    checked by a Sturm count (inertia of K at a cut after the wanted
@@ -57,7 +59,8 @@ typedef struct sf_sstab_opts {
     int nev;        /* smallest eigenvalues wanted (>= 1) */
     int maxiter;    /* ARPACK restarts per attempt (0: 1000) */
     int attempts;   /* ARPACK attempts in all (0: 4) */
-    double tol;     /* ARPACK relative tolerance (0: 1e-13) */
+    double tol;     /* ARPACK relative tolerance (0: 1e-10; eigenvalue errors are at most
+                       tol times their distance to the shift, Bauer-Fike) */
 } sf_sstab_opts;
 
 typedef struct sf_sstab_result {

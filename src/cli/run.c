@@ -492,7 +492,11 @@ static int run_equilibrium(run_ctx *r)
      * compressed strip folded by actuation has the flat state as an
      * unstable equilibrium nearby). */
     int rested = 0;
-    if (F0norm > 1e-14) {
+    /* the flat state solves the problem at the start when its residual is
+     * rounding only (it grows with the number of loops: 1.4e-14 on a 3x3
+     * Miura sheet) */
+    double flat_tol = 1e-2 * (s->tolerance > 0 ? s->tolerance : 1e-10);
+    if (F0norm > flat_tol) {
         sf_equil_set_param(eq, start);
         for (int i = 0; i < sc->model.nfolds; i++)
             if (eq->par.rest[i] != 0.0) {
@@ -507,7 +511,7 @@ static int run_equilibrium(run_ctx *r)
         return err->code;
     }
     int direct = strcmp(flat_start, "direct") == 0;
-    if (!direct && (eq->pz ? sc->topo.nivertices > 0 : eq->nloop > 0) && F0norm <= 1e-14) {
+    if (!direct && (eq->pz ? sc->topo.nivertices > 0 : eq->nloop > 0) && F0norm <= flat_tol) {
         /* The flat state solves the exact problem at the start, but it is a
          * singular point of loop closure (multipliers of the second-order
          * rows are undetermined there).  Report it, then start the branch
@@ -523,8 +527,16 @@ static int run_equilibrium(run_ctx *r)
         if (r->seg_end != end) p1 = start + dir * fmin(fabs(p1 - start), 0.25 * fabs(r->seg_end - start));
         r->s_offset = -1.0;   /* set from the first point (on_point) */
         double tol = s->tolerance > 0 ? s->tolerance : 1e-10;
+        sf_flatstart_info fi;
+        memset(&fi, 0, sizeof fi);
+        int fb = 1;
+        if (sf_study_int(s, "solver.flat_branch", 1, &fb, err)) {
+            free(y0);
+            return err->code;
+        }
         rc = eq->pz ? sf_equil_poses_start_flat(eq, cs, start, p1, dir, tol, y0, err)
-                    : sf_equil_start_flat(eq, cs, start, p1, dir, tol, y0, err);
+                    : sf_equil_start_flat(eq, cs, start, p1, dir, tol, y0, fb, &fi, err);
+        if (fi.note[0]) branch_note(r, "%s", fi.note);
         if (rc) {
             free(y0);
             return explain_start_failure(r);
