@@ -35,7 +35,12 @@
 #include "sstab.h"
 
 enum { SF_EIG_AUTO = 0, SF_EIG_DENSE = 1, SF_EIG_ARPACK = 2 };
-#define SF_EIG_DENSE_MAX 200
+/* Dense up to 1000 coordinates: on Miura-ori sheets (penalty closure, the
+ * whole space free, bench/stability-sparse.sh) the dense method costs
+ * 0.1 s per point at 528 coordinates and 0.55 s at 960, while MUMPS +
+ * ARPACK took minutes there: their smallest eigenvalue is a cluster of
+ * hundreds of copies, which Lanczos resolves slowly. */
+#define SF_EIG_DENSE_MAX 1000
 
 typedef struct sf_stab_result {
     int method;        /* SF_EIG_DENSE or SF_EIG_ARPACK (the one used) */

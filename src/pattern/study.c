@@ -146,7 +146,7 @@ static const sf_study_key schema[] = {
     {"analysis.max_steps",         INT,   SF_KEY_GE,      1, 0,       "500",         NULL, "-", "most steps along a branch"},
     {"analysis.stability",         BOOL,  0,              0, 0,       "true",        NULL, "-", "compute stability along the path"},
     {"analysis.eigenvalues",       INT,   SF_KEY_GE,      0, 0,       "4",           NULL, "-", "lowest eigenvalues of the constrained Hessian reported"},
-    {"analysis.eigensolver",       STR,   0,              0, 0,       "auto",        "auto|dense|arpack", "-", "eigenvalues of the constrained Hessian: dense LAPACK (explicit tangent basis), ARPACK shift-invert on the KKT pencil, or auto (dense up to 200 coordinates)"},
+    {"analysis.eigensolver",       STR,   0,              0, 0,       "auto",        "auto|dense|arpack", "-", "eigenvalues of the constrained Hessian: dense LAPACK (explicit tangent basis), ARPACK shift-invert on the KKT pencil, or auto (dense up to 1000 coordinates)"},
     {"analysis.arpack_maxiter",    INT,   SF_KEY_GE,      1, 0,       "1000",        NULL, "-", "ARPACK restarts per attempt (a non-converged attempt is retried with a larger subspace, then another shift)"},
     {"analysis.arpack_attempts",   INT,   SF_KEY_GE,      1, 0,       "4",           NULL, "-", "ARPACK attempts per point before its stability is marked unknown"},
     {"analysis.flat_start",        STR,   0,              0, 0,       "limit",       "limit|direct", "-", "exact closure starting at the flat state: from the limit of the branch (then the penalty homotopy), or directly (the engine's tangent at the singular point)"},
