@@ -8,12 +8,14 @@
 # Miura under gravity and a tip load starts at the flat state directly
 # (analysis.flat_start = "direct") and follows 20 steps with every fold's
 # six rows closed to the Newton tolerance (1e-10) and the corner moving
-# down.  Output is TAP.
+# down; square4 with the sparse stability analysis (ARPACK on MUMPS, the
+# pose blocks handed over as CSC) gives the stability and Morse index of
+# the fold formulation at every point.  Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 bin=${SF_BUILDDIR:-.}/src/smoothfold
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-echo "1..5"
+echo "1..6"
 n=1
 for study in strip3 square4; do
     ok=1
@@ -76,4 +78,18 @@ else
         *FAIL) echo "not ok $n - miura2 poses, direct flat start: $msg" ;;
         *) echo "ok $n - miura2 poses, direct flat start: $msg" ;;
     esac
+fi
+n=$((n + 1))
+for f in folds poses; do
+    "$bin" run "$src/studies/square4.cfg" --set solver.formulation=\"$f\" --set analysis.eigensolver=\"arpack\" \
+        --set output.shapes=0 -o "$tmp/s4a-$f" -q >"$tmp/log" 2>&1 || echo "run $f: $(cat "$tmp/log")" >> "$tmp/s4a-err"
+done
+if [ -f "$tmp/s4a-err" ]; then
+    echo "not ok $n - square4 sparse stability: $(cat "$tmp/s4a-err")"
+else
+    col() { grep -v '^#' "$1" | awk -F'\t' 'NR == 1 { for (i = 1; i <= NF; i++) { if ($i == "stable") a = i; if ($i == "morse") b = i }; next } { print $a "/" $b }' | sort | uniq -c | tr -s ' \n' '  '; }
+    a=$(col "$tmp/s4a-folds/branch.tsv"); b=$(col "$tmp/s4a-poses/branch.tsv")
+    arp=$(grep -c '^# stability: 0 points by the dense LAPACK method' "$tmp/s4a-poses/branch.tsv")
+    if [ "$a" = "$b" ] && [ "$arp" = 1 ]; then echo "ok $n - square4 sparse stability: stable/morse counts $b in both"
+    else echo "not ok $n - square4 sparse stability: folds [$a] poses [$b] (ARPACK only: $arp)"; fi
 fi

@@ -22,6 +22,11 @@ struct sf_peq {
     int nx;
     double *work, *dg, *Hl, *dx;
     int *col;
+    /* the KKT blocks for sstab.h (sf_peq_kkt_csc): HL's lower triangle and
+     * C, as CSC with int indices, and where each entry sits in T.val */
+    int *hp, *hi, *cpc, *ci;
+    long *hsrc, *csrc;
+    double *hv, *cv;
 };
 
 /* ------------------------------------------------------------ assembly */
@@ -265,6 +270,8 @@ void sf_peq_free(sf_equil *q)
     free(z->Hl);
     free(z->dx);
     free(z->col);
+    free(z->hp); free(z->hi); free(z->cpc); free(z->ci);
+    free(z->hsrc); free(z->csrc); free(z->hv); free(z->cv);
     free(z);
     q->pz = NULL;
 }
@@ -343,6 +350,64 @@ int sf_peq_kkt(sf_equil *q, const double *y, double p, double *HL, double *C)
             HL[(size_t)i * nx + j] = HL[(size_t)j * nx + i] = v;
         }
     return finite_all(HL, (long)nx * nx) && finite_all(C, (long)q->ncon * nx) ? 0 : 1;
+}
+
+/* The blocks' patterns, once, from the Jacobian's: HL = rows and columns
+ * below nx (lower triangle), C = rows from nx, columns below nx. */
+static int kkt_pattern(sf_equil *q)
+{
+    struct sf_peq *z = q->pz;
+    const sf_triplets *T = &z->T;
+    int nx = z->nx;
+    long nh = 0, nc = 0;
+    for (int j = 0; j < nx; j++)
+        for (long k = T->colptr[j]; k < T->colptr[j + 1]; k++) {
+            if (T->rowind[k] >= nx) nc++;
+            else if (T->rowind[k] >= j) nh++;
+        }
+    z->hp = malloc(sizeof(int) * ((size_t)nx + 1));
+    z->cpc = malloc(sizeof(int) * ((size_t)nx + 1));
+    z->hi = malloc(sizeof(int) * ((size_t)nh + 1));
+    z->ci = malloc(sizeof(int) * ((size_t)nc + 1));
+    z->hsrc = malloc(sizeof(long) * ((size_t)nh + 1));
+    z->csrc = malloc(sizeof(long) * ((size_t)nc + 1));
+    z->hv = calloc((size_t)nh + 1, sizeof(double));
+    z->cv = calloc((size_t)nc + 1, sizeof(double));
+    if (!z->hp || !z->cpc || !z->hi || !z->ci || !z->hsrc || !z->csrc || !z->hv || !z->cv)
+        return SF_ENOMEM;
+    nh = nc = 0;
+    for (int j = 0; j < nx; j++) {
+        z->hp[j] = (int)nh;
+        z->cpc[j] = (int)nc;
+        for (long k = T->colptr[j]; k < T->colptr[j + 1]; k++) {
+            int i = T->rowind[k];
+            if (i >= nx) {
+                z->ci[nc] = i - nx;
+                z->csrc[nc++] = k;
+            } else if (i >= j) {
+                z->hi[nh] = i;
+                z->hsrc[nh++] = k;
+            }
+        }
+    }
+    z->hp[nx] = (int)nh;
+    z->cpc[nx] = (int)nc;
+    return SF_OK;
+}
+
+int sf_peq_kkt_csc(sf_equil *q, const double *y, double p, sf_csc *HL, sf_csc *C)
+{
+    struct sf_peq *z = q->pz;
+    int nx = z->nx;
+    if (!finite_all(y, q->n) || !isfinite(p)) return SF_ENUMERIC;
+    if (!z->hp && kkt_pattern(q)) return SF_ENOMEM;
+    assemble(q, y, p, NULL, 1, NULL);
+    for (int k = 0; k < z->hp[nx]; k++) z->hv[k] = z->T.val[z->hsrc[k]];
+    for (int k = 0; k < z->cpc[nx]; k++) z->cv[k] = z->T.val[z->csrc[k]];
+    if (!finite_all(z->hv, z->hp[nx]) || !finite_all(z->cv, z->cpc[nx])) return SF_ENUMERIC;
+    *HL = (sf_csc){nx, nx, z->hp, z->hi, z->hv};
+    *C = (sf_csc){q->ncon, nx, z->cpc, z->ci, z->cv};
+    return SF_OK;
 }
 
 void sf_peq_report(sf_equil *q, const double *y, double p, double *Pi, double *res_rot,

@@ -10,11 +10,13 @@
  * pattern is recorded once (sf_equil_use_poses) as a fixed sequence of
  * additions, then values are refilled through the map (poses.h,
  * sf_triplets).  Nothing of size nx^2 is formed except by sf_equil_kkt,
- * whose callers (the dense stability analysis) ask for dense blocks. */
+ * whose callers (the dense stability analysis) ask for dense blocks; the
+ * sparse stability analysis takes sf_peq_kkt_csc instead. */
 #ifndef SF_EQUILIBRIUM_POSES_H
 #define SF_EQUILIBRIUM_POSES_H
 
 #include "equilibrium.h"
+#include "sstab.h"
 
 struct cont_solver;
 
@@ -35,6 +37,12 @@ long sf_equil_poses_nnz(const sf_equil *q);
  * q) from there.  y receives the lifted guess. */
 int sf_equil_poses_start_flat(sf_equil *q, struct cont_solver *cs, double p0, double p1,
                               int dir, double tol, double *y, sf_error *err);
+
+/* The KKT blocks at (y, p) for the sparse stability analysis (sstab.h):
+ * HL (nx x nx, lower triangle) and C (ncon x nx), pointing into storage
+ * of q valid until the next call; patterns fixed for the study.  SF_OK,
+ * SF_ENUMERIC on a non-finite value, SF_ENOMEM. */
+int sf_peq_kkt_csc(sf_equil *q, const double *y, double p, sf_csc *HL, sf_csc *C);
 
 /* Used by equilibrium.c when q->pz is set. */
 int sf_peq_residual(sf_equil *q, const double *y, double p, double *F);

@@ -1,6 +1,8 @@
 /* stability.c - eigenvalues of the constrained Hessian (see stability.h). */
 #include "stability.h"
 
+#include "equilibrium_poses.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -49,6 +51,10 @@ int sf_stab_init(sf_stab *st, const sf_equil *q, int method, int nev, sf_error *
     /* scratch for the method that will run; the dense one (also the
      * fallback of ARPACK) grows it when it needs more (dense_work) */
     int dense = method == SF_EIG_DENSE || (method == SF_EIG_AUTO && q->nq <= SF_EIG_DENSE_MAX);
+    /* face poses above the dense size: the sparse blocks go to sstab.h
+     * directly (sf_peq_kkt_csc), nothing of size nq^2 */
+    st->sparse_kkt = q->pz && !dense;
+    if (st->sparse_kkt) nq = nc = 0;
     st->nwork = dense ? dense_work(q->nq, q->ncon) : nq * nq + nc * nq + 64;
     st->HL = calloc(nq * nq + 1, sizeof(double));
     st->C = calloc(nc * nq + 1, sizeof(double));
@@ -220,8 +226,44 @@ static int eval_arpack(sf_stab *st, sf_error *err)
     return SF_OK;
 }
 
+/* Face poses: the sparse KKT blocks straight to sstab.h; no dense
+ * fallback (a tangent space too small for ARPACK leaves the eigenvalues
+ * unknown, with the reason). */
+static int eval_sparse_kkt(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *err)
+{
+    sf_stab_result *R = &st->res;
+    sf_csc H, C;
+    int rc = sf_peq_kkt_csc(q, y, p, &H, &C);
+    if (rc == SF_ENOMEM) return sf_fail(err, SF_ENOMEM, "out of memory");
+    if (rc) return sf_fail(err, SF_ENUMERIC, "stability: non-finite Hessian at p = %g", p);
+    if (!st->sp) {
+        sf_sstab_opts o = {.nev = st->nev, .maxiter = st->arpack_maxiter,
+                           .attempts = st->arpack_attempts};
+        if ((rc = sf_sstab_create(&st->sp, st->nq, st->ncon, &o, err))) return rc;
+    }
+    if ((rc = sf_sstab_eval(st->sp, &H, st->ncon > 0 ? &C : NULL, err))) return rc;
+    const sf_sstab_result *S = sf_sstab_get(st->sp);
+    R->method = SF_EIG_ARPACK;
+    R->rank = S->rank;
+    R->dim = S->dim;
+    R->morse = S->morse < 0 ? 0 : S->morse;
+    R->stable = S->stable;
+    R->neig = S->neig;
+    memcpy(R->eig, S->eig, sizeof(double) * (size_t)S->neig);
+    R->iters = S->iters;
+    R->nop = S->nop;
+    R->status = S->status;
+    R->attempts = S->attempts;
+    snprintf(R->reason, sizeof R->reason, "%s", S->reason);
+    if (S->neig == 0 && S->dim > 0 && R->reason[0] == '\0')
+        snprintf(R->reason, sizeof R->reason, "tangent space of dimension %d too small for "
+                 "ARPACK (%d eigenvalues wanted)", S->dim, st->nev);
+    return SF_OK;
+}
+
 int sf_stab_eval(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *err)
 {
+    if (st->sparse_kkt) return eval_sparse_kkt(st, q, y, p, err);
     if (sf_equil_kkt(q, y, p, st->HL, st->C))
         return sf_fail(err, SF_ENUMERIC, "stability: non-finite Hessian at p = %g", p);
     int method = st->method;

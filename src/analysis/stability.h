@@ -65,6 +65,7 @@ typedef struct sf_stab {
     size_t nwork;
     int *iwork;
     sf_sstab *sp;          /* the ARPACK method (MUMPS + ARPACK) */
+    int sparse_kkt;        /* face poses: sparse blocks to sp, no dense HL, C */
     int arpack_maxiter;    /* 0: sstab.h default; set before the first eval */
     int arpack_attempts;   /* 0: sstab.h default */
     sf_stab_result res;
