@@ -137,6 +137,31 @@ sunindextype ci_jy_nnz(const cont_solver *s)
     return (sunindextype)s->n * s->n;
 }
 
+/* Column j of Jy into CSC arrays bi, bx from position k (a dense Jy: all n
+ * entries); returns the position after it.  Adds the squares of the
+ * entries to *norm2 unless norm2 is NULL. */
+sunindextype ci_jy_column(const cont_solver *s, long j, sunindextype *bi, double *bx,
+                          sunindextype k, double *norm2)
+{
+    if (s->prob.jac_matrix == CONT_MATRIX_SPARSE) {
+        const sunindextype *ptr = SM_INDEXPTRS_S(s->Jy), *idx = SM_INDEXVALS_S(s->Jy);
+        const double *val = SM_DATA_S(s->Jy);
+        for (sunindextype q = ptr[j]; q < ptr[j + 1]; q++) {
+            bi[k] = idx[q];
+            bx[k++] = val[q];
+            if (norm2) *norm2 += val[q] * val[q];
+        }
+    } else {
+        const double *col = SM_COLUMN_D(s->Jy, j);
+        for (long i = 0; i < s->n; i++) {
+            bi[k] = i;
+            bx[k++] = col[i];
+            if (norm2) *norm2 += col[i] * col[i];
+        }
+    }
+    return k;
+}
+
 /* After filling a sparse bordered matrix: tell KLU to re-analyse when the
  * pattern differs from the one it has factorised before. */
 static int bm_pattern_check(cont_bmat *bm)
@@ -202,20 +227,7 @@ int ci_bm_build(cont_solver *s, cont_bmat *bm, const double *c)
     sunindextype k = 0;
     for (long j = 0; j < n; j++) {
         bp[j] = k;
-        if (jsp) {
-            sunindextype *ptr = SM_INDEXPTRS_S(s->Jy), *idx = SM_INDEXVALS_S(s->Jy);
-            double *val = SM_DATA_S(s->Jy);
-            for (sunindextype q = ptr[j]; q < ptr[j + 1]; q++) {
-                bi[k] = idx[q];
-                bx[k++] = val[q];
-            }
-        } else {
-            double *col = SM_COLUMN_D(s->Jy, j);
-            for (long i = 0; i < n; i++) {
-                bi[k] = i;
-                bx[k++] = col[i];
-            }
-        }
+        k = ci_jy_column(s, j, bi, bx, k, NULL);
         bi[k] = n;
         bx[k++] = c[j];
     }

@@ -109,20 +109,7 @@ static int branch_sparse(cont_solver *s, const double *t1w, double *u, double *r
     double anorm2 = 0.0;
     for (long j = 0; j < n; j++) {
         bp[j] = k;
-        if (jsp) {
-            sunindextype *ptr = SM_INDEXPTRS_S(s->Jy), *idx = SM_INDEXVALS_S(s->Jy);
-            double *val = SM_DATA_S(s->Jy);
-            for (sunindextype q = ptr[j]; q < ptr[j + 1]; q++) {
-                bi[k] = idx[q]; bx[k++] = val[q];
-                anorm2 += val[q] * val[q];
-            }
-        } else {
-            for (long i = 0; i < n; i++) {
-                double v = SM_ELEMENT_D(s->Jy, i, j);
-                bi[k] = i; bx[k++] = v;
-                anorm2 += v * v;
-            }
-        }
+        k = ci_jy_column(s, j, bi, bx, k, &anorm2);
         bi[k] = n; bx[k++] = t1w[j];
         bi[k] = m; bx[k++] = cv[j];
     }

@@ -5,3 +5,6 @@ TESTS += tests/test_bifurcation
 tests_test_bifurcation_SOURCES = tests/test_bifurcation.c
 tests_test_bifurcation_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_bifurcation_LDADD = $(SF_TEST_LIBS)
+# helpers shared by test_bifurcation, test_stability and test_multibp, and
+# the tests' reader of the TSV files `smoothfold run` writes
+EXTRA_DIST += tests/stab_test.h tests/tsv_test.h

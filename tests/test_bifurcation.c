@@ -30,15 +30,7 @@
 #include "scene.h"
 #include "stability.h"
 #include "sf_test.h"
-
-#define CHECK_OK(rc, err)                                                      \
-    do {                                                                       \
-        int rc_ = (rc);                                                        \
-        if (rc_ != SF_OK) {                                                    \
-            print_error("expected SF_OK, got %d: %s\n", rc_, (err).msg);        \
-            fail();                                                            \
-        }                                                                      \
-    } while (0)
+#include "stab_test.h"
 
 /* ---- what the hooks receive ------------------------------------------- */
 
@@ -172,14 +164,7 @@ static void test_morse_bounds(void **state)
 
 /* ---- fold1-buckle: one simple crossing in closed form ------------------ */
 
-/* P_cr = k / (b + w/3) over the 1.5 N load, k = D L / w (see
- * studies/fold1-buckle.cfg), with the study's own material and geometry */
-static const double E_F = 15.2e6, NU_F = 0.45, H_F = 1.8e-3, L_F = 0.03, W_F = 0.01, B_F = 0.025,
-                    P_F = 1.5;
-static double k_fold(void) { return E_F * H_F * H_F * H_F / (12.0 * (1.0 - NU_F * NU_F)) * L_F / W_F; }
-static double pcr_fold(void) { return k_fold() / (B_F + W_F / 3.0) / P_F; }
-/* d ux / dt of the tip on the circular-arc fold */
-static double ux1(double t) { return W_F * (t * cos(t) - sin(t)) / (t * t) - B_F * sin(t); }
+/* P_cr = k / (b + w/3), k = D L / w: pcr_fold(), k_fold() in stab_test.h */
 
 typedef struct fold1 {
     sf_scene sc;
@@ -342,25 +327,6 @@ static void test_fold1_switch(void **state)
 }
 
 /* ---- square4-inplane: a double crossing -------------------------------- */
-
-/* Bisection for the zero of the (j+1)-th smallest eigenvalue of the
- * constrained Hessian at the fixed state y, p in [a, b]. */
-static double flat_zero(sf_stab *st, sf_equil *eq, const double *y, int j, double a, double b)
-{
-    sf_error err;
-    sf_error_clear(&err);
-    CHECK_OK(sf_stab_eval(st, eq, y, a, &err), err);
-    assert_true(st->res.eig[j] > 0);
-    CHECK_OK(sf_stab_eval(st, eq, y, b, &err), err);
-    assert_true(st->res.eig[j] < 0);
-    for (int i = 0; i < 60; i++) {
-        double m = 0.5 * (a + b);
-        CHECK_OK(sf_stab_eval(st, eq, y, m, &err), err);
-        if (st->res.eig[j] > 0) a = m;
-        else b = m;
-    }
-    return 0.5 * (a + b);
-}
 
 static void test_square4_double(void **state)
 {

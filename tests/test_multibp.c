@@ -29,17 +29,11 @@
 #include "multibp.h"
 #include "stability.h"
 #include "sf_test.h"
+#include "stab_test.h"
+#include "tsv_test.h"
 
 #define NG 8
 #define MAXF 64
-
-#define CHECK_OK_ERR(call, e)                                                   \
-    do {                                                                        \
-        if ((call) != SF_OK) {                                                  \
-            print_error("%s: %s\n", #call, (e).msg);                            \
-            fail();                                                             \
-        }                                                                       \
-    } while (0)
 
 /* perm[g][f]: the fold that element g of D4 maps fold f to. */
 static void d4_perms(const sf_study *s, int perm[NG][MAXF])
@@ -113,27 +107,22 @@ static void check_orbits(const char *what, int nf, int perm[NG][MAXF], const dou
     }
 }
 
-/* The double crossing of the flat branch: bisection on eig2 at y = 0. */
+/* The double crossing of the flat branch: bisection on eig2 at y = 0
+ * (eig3 is below zero too at the upper end). */
 static double flat_bp2(sf_equil *eq)
 {
     sf_stab st;
     sf_error err;
     sf_error_clear(&err);
-    CHECK_OK_ERR(sf_stab_init(&st, eq, SF_EIG_DENSE, 4, &err), err);
+    CHECK_OK(sf_stab_init(&st, eq, SF_EIG_DENSE, 4, &err), err);
     double *y = calloc((size_t)eq->n, sizeof(double)), a = 0.296, b = 0.31;
     assert_non_null(y);
-    CHECK_OK_ERR(sf_stab_eval(&st, eq, y, a, &err), err);
-    assert_true(st.res.eig[1] > 0);
-    CHECK_OK_ERR(sf_stab_eval(&st, eq, y, b, &err), err);
-    assert_true(st.res.eig[1] < 0 && st.res.eig[2] < 0);
-    for (int it = 0; it < 60; it++) {
-        double m = 0.5 * (a + b);
-        CHECK_OK_ERR(sf_stab_eval(&st, eq, y, m, &err), err);
-        if (st.res.eig[1] > 0) a = m; else b = m;
-    }
+    CHECK_OK(sf_stab_eval(&st, eq, y, b, &err), err);
+    assert_true(st.res.eig[2] < 0);
+    double p = flat_zero(&st, eq, y, 1, a, b);
     free(y);
     sf_stab_free(&st);
-    return 0.5 * (a + b);
+    return p;
 }
 
 static void test_library(void **state)
@@ -146,13 +135,13 @@ static void test_library(void **state)
     sf_equil eq;
     sf_error err;
     sf_error_clear(&err);
-    CHECK_OK_ERR(sf_equil_init(&eq, &sc.model, SF_PARAM_LOAD, -1, 0, 2, 0.0, &err), err);
+    CHECK_OK(sf_equil_init(&eq, &sc.model, SF_PARAM_LOAD, -1, 0, 2, 0.0, &err), err);
     sf_equil_use_penalty(&eq, sc.study.penalty_rotation, sc.study.penalty_translation);
     double p2 = flat_bp2(&eq);
     double *y0 = calloc((size_t)eq.n, sizeof(double));
     assert_non_null(y0);
     sf_mbp M;
-    CHECK_OK_ERR(sf_mbp_directions(&eq, y0, p2, 2, 0.02, 0.05, &M, &err), err);
+    CHECK_OK(sf_mbp_directions(&eq, y0, p2, 2, 0.02, 0.05, &M, &err), err);
     assert_int_equal(M.order, 3);   /* z -> -z symmetry: no quadratic part */
     int nf = sc.model.nfolds, n = eq.n;
     double *th = calloc((size_t)M.ndir * nf, sizeof(double)), *F = calloc((size_t)n, sizeof(double));
@@ -190,80 +179,19 @@ static void test_library(void **state)
 
 /* ---- run level ---------------------------------------------------------- */
 
-typedef struct table {
-    int ncol, nrow;
-    char names[128][24];
-    char **cell;          /* nrow * ncol strings */
-    char *notes;
-} table;
-
-static void table_read(table *t, const char *path)
-{
-    memset(t, 0, sizeof *t);
-    FILE *f = fopen(path, "r");
-    if (!f) print_error("cannot open %s\n", path);
-    assert_non_null(f);
-    static char line[1 << 16];
-    size_t nn = 0;
-    while (fgets(line, sizeof line, f)) {
-        size_t L = strlen(line);
-        while (L && (line[L - 1] == '\n' || line[L - 1] == '\r')) line[--L] = '\0';
-        if (line[0] == '#') {
-            t->notes = realloc(t->notes, nn + L + 2);
-            memcpy(t->notes + nn, line, L);
-            nn += L;
-            t->notes[nn++] = '\n';
-            t->notes[nn] = '\0';
-            continue;
-        }
-        if (!L) continue;
-        char *p = line;
-        int c = 0;
-        if (!t->ncol) {
-            for (char *tok = strtok(p, "\t"); tok && c < 128; tok = strtok(NULL, "\t"))
-                snprintf(t->names[c++], sizeof t->names[0], "%s", tok);
-            t->ncol = c;
-            continue;
-        }
-        t->cell = realloc(t->cell, sizeof(char *) * (size_t)(t->nrow + 1) * t->ncol);
-        assert_non_null(t->cell);
-        for (c = 0; c < t->ncol; c++) {
-            char *tab = p ? strchr(p, '\t') : NULL;
-            if (tab) *tab = '\0';
-            t->cell[(size_t)t->nrow * t->ncol + c] = strdup(p ? p : "");
-            p = tab ? tab + 1 : NULL;
-        }
-        t->nrow++;
-    }
-    fclose(f);
-}
-
-static const char *cell(const table *t, int r, const char *name)
-{
-    for (int c = 0; c < t->ncol; c++)
-        if (!strcmp(t->names[c], name)) return t->cell[(size_t)r * t->ncol + c];
-    print_error("no column %s\n", name);
-    fail();
-    return "";
-}
-
 static void test_run(void **state)
 {
     (void)state;
-    const char *b = getenv("SF_BUILDDIR"), *src = getenv("SF_SRCDIR");
-    if (!b) b = ".";
-    if (!src) src = SF_SRCDIR;
-    char dir[1200], cmd[4096], path[1300];
-    snprintf(dir, sizeof dir, "%s/tests/multibp-out", b);
-    snprintf(cmd, sizeof cmd, "rm -rf '%s' && '%s/src/smoothfold' run '%s/studies/square4-inplane.cfg' "
-             "-o '%s' -q --set analysis.end=0.45", dir, b, src, dir);
-    assert_int_equal(system(cmd), 0);
+    const char *b = getenv("SF_BUILDDIR");
+    char dir[1200], path[1300];
+    snprintf(dir, sizeof dir, "%s/tests/multibp-out", b ? b : ".");
+    tsv_run("square4-inplane", dir, "--set analysis.end=0.45");
     snprintf(path, sizeof path, "%s/branch.tsv", dir);
-    table t;
-    table_read(&t, path);
+    tsv t;
+    tsv_read(&t, path);
     /* the note of the flat branch's BP2 names its branches */
     const char *key = ": 8 distinct branches in 2 classes of symmetric images";
-    char *nt = t.notes ? strstr(t.notes, key) : NULL;
+    char *nt = strstr(t.header, key);
     if (!nt) print_error("no note \"%s\" in %s\n", key, path);
     assert_non_null(nt);
     int br[16], nb = 0;
@@ -281,22 +209,22 @@ static void test_run(void **state)
     for (int i = 0; i < nb; i++) {
         int first = -1, rows = 0;
         for (int r = 0; r < t.nrow; r++) {
-            if (atoi(cell(&t, r, "branch")) != br[i]) continue;
+            if (atoi(tsv_str(&t, r, "branch")) != br[i]) continue;
             if (first < 0) first = r;
             rows++;
             /* the Morse index is the number of negative eigenvalues listed
              * (all of them when fewer than eig1..eig4 are negative) */
-            if (cell(&t, r, "type")[0]) continue;
-            int morse = atoi(cell(&t, r, "morse")), neg = 0, ne = 0;
+            if (tsv_str(&t, r, "type")[0]) continue;
+            int morse = atoi(tsv_str(&t, r, "morse")), neg = 0, ne = 0;
             for (int k = 1; k <= 4; k++) {
                 char nm[8];
                 snprintf(nm, sizeof nm, "eig%d", k);
-                const char *s = cell(&t, r, nm);
+                const char *s = tsv_str(&t, r, nm);
                 if (s[0]) { ne++; neg += strtod(s, NULL) < 0; }
             }
             if (morse < ne ? neg != morse : neg != ne) {
                 print_error("branch %d row %s: Morse index %d, %d of %d eigenvalues negative\n",
-                            br[i], cell(&t, r, "point"), morse, neg, ne);
+                            br[i], tsv_str(&t, r, "point"), morse, neg, ne);
                 fail();
             }
         }
@@ -305,14 +233,12 @@ static void test_run(void **state)
         for (int f = 0; f < nf; f++) {
             char nm[16];
             snprintf(nm, sizeof nm, "theta%d", f + 1);
-            th[(size_t)i * nf + f] = strtod(cell(&t, first, nm), NULL);
+            th[(size_t)i * nf + f] = strtod(tsv_str(&t, first, nm), NULL);
         }
     }
     check_orbits("smoothfold run", nf, perm, th, nb);
     free(th);
-    for (size_t i = 0; i < (size_t)t.nrow * t.ncol; i++) free(t.cell[i]);
-    free(t.cell);
-    free(t.notes);
+    tsv_free(&t);
     sf_scene_close(&sc);
 }
 

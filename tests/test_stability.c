@@ -33,111 +33,10 @@
 #include "scene.h"
 #include "stability.h"
 #include "sf_test.h"
+#include "stab_test.h"
+#include "tsv_test.h"
 
-#define CHECK_OK(rc, err)                                                      \
-    do {                                                                       \
-        int rc_ = (rc);                                                        \
-        if (rc_ != SF_OK) {                                                    \
-            print_error("expected SF_OK, got %d: %s\n", rc_, (err).msg);        \
-            fail();                                                            \
-        }                                                                      \
-    } while (0)
-
-/* ---- TSV files written by smoothfold run ----------------------------- */
-
-typedef struct tsv {
-    int ncol, nrow;
-    char **name;
-    char ***cell;     /* [row][col] strings ("" for an empty field) */
-    char header[4096];/* the # comment lines */
-} tsv;
-
-static void tsv_read(tsv *t, const char *path)
-{
-    memset(t, 0, sizeof *t);
-    FILE *f = fopen(path, "r");
-    if (!f) print_error("cannot open %s\n", path);
-    assert_non_null(f);
-    char line[65536];
-    int cap = 0;
-    while (fgets(line, sizeof line, f)) {
-        size_t L = strlen(line);
-        while (L && (line[L - 1] == '\n' || line[L - 1] == '\r')) line[--L] = '\0';
-        if (line[0] == '#') {
-            /* keep what fits (a run with many branches has long notes) */
-            size_t used = strlen(t->header), room = sizeof t->header - used;
-            if (room > 2) {
-                size_t k = L < room - 2 ? L : room - 2;
-                memcpy(t->header + used, line, k);
-                memcpy(t->header + used + k, "\n", 2);
-            }
-            continue;
-        }
-        if (L == 0) continue; /* block separator */
-        char **fields = NULL;
-        int nf = 0;
-        char *p = line;
-        for (;;) {
-            char *tab = strchr(p, '\t');
-            if (tab) *tab = '\0';
-            fields = realloc(fields, sizeof(char *) * (size_t)(nf + 1));
-            fields[nf++] = strdup(p);
-            if (!tab) break;
-            p = tab + 1;
-        }
-        if (!t->name) {
-            t->name = fields;
-            t->ncol = nf;
-            continue;
-        }
-        assert_int_equal(nf, t->ncol);
-        if (t->nrow == cap) {
-            cap = cap ? 2 * cap : 64;
-            t->cell = realloc(t->cell, sizeof(char **) * (size_t)cap);
-        }
-        t->cell[t->nrow++] = fields;
-    }
-    fclose(f);
-    assert_non_null(t->name);
-}
-
-static int tsv_col(const tsv *t, const char *name)
-{
-    for (int i = 0; i < t->ncol; i++)
-        if (strcmp(t->name[i], name) == 0) return i;
-    print_error("no column %s\n", name);
-    fail();
-    return -1;
-}
-
-static double tsv_num(const tsv *t, int row, const char *name)
-{
-    const char *s = t->cell[row][tsv_col(t, name)];
-    char *end;
-    double v = strtod(s, &end);
-    if (end == s || *end) {
-        print_error("row %d column %s: '%s' is not a number\n", row, name, s);
-        fail();
-    }
-    return v;
-}
-
-static const char *tsv_str(const tsv *t, int row, const char *name)
-{
-    return t->cell[row][tsv_col(t, name)];
-}
-
-static void tsv_free(tsv *t)
-{
-    for (int r = 0; r < t->nrow; r++) {
-        for (int c = 0; c < t->ncol; c++) free(t->cell[r][c]);
-        free(t->cell[r]);
-    }
-    for (int c = 0; c < t->ncol; c++) free(t->name[c]);
-    free(t->name);
-    free(t->cell);
-    memset(t, 0, sizeof *t);
-}
+/* ---- TSV files written by smoothfold run (tsv_test.h) -------------- */
 
 /* Every field of every row is a finite number, except `type` and empty
  * eigenvalue fields. */
@@ -161,16 +60,18 @@ static void tsv_all_finite(const tsv *t)
 static void run_study(const char *study, char *dir, size_t n, const char *extra)
 {
     const char *b = getenv("SF_BUILDDIR");
-    const char *sdir = getenv("SF_SRCDIR");
-    if (!b) b = ".";
-    if (!sdir) sdir = SF_SRCDIR;
-    snprintf(dir, n, "%s/tests/stab-out/%s%s", b, study, extra && extra[0] ? "-x" : "");
+    snprintf(dir, n, "%s/tests/stab-out/%s%s", b ? b : ".", study, extra && extra[0] ? "-x" : "");
+    tsv_run(study, dir, extra);
+}
+
+/* Move the output of a first run aside, to DIR.dense (returned in keep),
+ * before a second run of the same study writes DIR. */
+static void keep_dense(const char *dir, char *keep, size_t n)
+{
+    snprintf(keep, n, "%s.dense", dir);
     char cmd[4096];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s' && '%s/src/smoothfold' run '%s/studies/%s.cfg' -o '%s' -q %s",
-             dir, b, sdir, study, dir, extra ? extra : "");
-    int rc = system(cmd);
-    if (rc != 0) print_error("%s: exit %d\n", cmd, rc);
-    assert_int_equal(rc, 0);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mv '%s' '%s'", keep, dir, keep);
+    assert_int_equal(system(cmd), 0);
 }
 
 static void read_out(const char *dir, const char *file, tsv *t)
@@ -180,27 +81,7 @@ static void read_out(const char *dir, const char *file, tsv *t)
     tsv_read(t, p);
 }
 
-/* ---- the one-fold closed forms (K = 0, G1) --------------------------- */
-
-/* fold1's sheet: one fold of width w, its band ends 0.035 m from the
- * clamp side; the load acts at x = 0.06, b beyond the band. */
-static const double E_F = 15.2e6, NU_F = 0.45, H_F = 1.8e-3, L_F = 0.03, W_F = 0.01, B_F = 0.025;
-static double k_fold(void)
-{
-    double D = E_F * H_F * H_F * H_F / (12.0 * (1.0 - NU_F * NU_F));
-    return D * L_F / W_F;
-}
-/* x-displacement of the tip and its t-derivatives (circular arc) */
-static double ux(double t)
-{
-    double c = fabs(t) < 1e-4 ? W_F * (1 - t * t / 6 + t * t * t * t / 120) : W_F * sin(t) / t;
-    return c + B_F * cos(t) - W_F - B_F;
-}
-static double ux1(double t) { return W_F * (t * cos(t) - sin(t)) / (t * t) - B_F * sin(t); }
-static double ux2(double t)
-{
-    return W_F * (-t * t * sin(t) - 2 * t * cos(t) + 2 * sin(t)) / (t * t * t) - B_F * cos(t);
-}
+/* ---- the one-fold closed forms (K = 0, G1): stab_test.h ----------- */
 
 static void test_buckle_closed_form(void **state)
 {
@@ -349,10 +230,7 @@ static void compare_solvers(const char *study, const char *extra)
     snprintf(x2, sizeof x2, "--set analysis.eigensolver=\\\"arpack\\\" --set analysis.step_bound=false %s", extra);
     run_study(study, d1, sizeof d1, x1);
     char keep[1100];
-    snprintf(keep, sizeof keep, "%s.dense", d1);
-    char cmd[2300];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mv '%s' '%s'", keep, d1, keep);
-    assert_int_equal(system(cmd), 0);
+    keep_dense(d1, keep, sizeof keep);
     run_study(study, d2, sizeof d2, x2);
     tsv A, B;
     read_out(keep, "branch.tsv", &A);
@@ -448,11 +326,9 @@ static void test_arpack_retry_unknown(void **state)
 static void test_sparse_switching(void **state)
 {
     (void)state;
-    char d1[1024], d2[1024], keep[1100], cmd[2300];
+    char d1[1024], d2[1024], keep[1100];
     run_study("fold1-buckle", d1, sizeof d1, "--set output.shapes=0");
-    snprintf(keep, sizeof keep, "%s.dense", d1);
-    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mv '%s' '%s'", keep, d1, keep);
-    assert_int_equal(system(cmd), 0);
+    keep_dense(d1, keep, sizeof keep);
     run_study("fold1-buckle", d2, sizeof d2,
               "--set output.shapes=0 --set solver.linear_solver=\\\"sparse\\\"");
     tsv A, B;
@@ -505,26 +381,6 @@ static void test_no_spurious_zero(void **state)
     free(y);
     sf_equil_free(&eq);
     sf_scene_close(&sc);
-}
-
-/* Bisection for the zero of the (j+1)-th smallest eigenvalue of the
- * constrained Hessian at the fixed state y, p in [a, b] (positive at a,
- * negative at b). */
-static double flat_zero(sf_stab *st, sf_equil *eq, const double *y, int j, double a, double b)
-{
-    sf_error err;
-    sf_error_clear(&err);
-    CHECK_OK(sf_stab_eval(st, eq, y, a, &err), err);
-    assert_true(st->res.eig[j] > 0);
-    CHECK_OK(sf_stab_eval(st, eq, y, b, &err), err);
-    assert_true(st->res.eig[j] < 0);
-    for (int i = 0; i < 60; i++) {
-        double m = 0.5 * (a + b);
-        CHECK_OK(sf_stab_eval(st, eq, y, m, &err), err);
-        if (st->res.eig[j] > 0) a = m;
-        else b = m;
-    }
-    return 0.5 * (a + b);
 }
 
 /* square4 in plane: the flat branch buckles where the smallest eigenvalue

@@ -20,17 +20,6 @@
 
 #define PI_ 3.14159265358979323846
 
-/* Fails with expected, got and tolerance. */
-#define CHECK_CLOSE(got, want, tol, what)                                       \
-    do {                                                                        \
-        double g_ = (got), w_ = (want), t_ = (tol);                             \
-        if (!(fabs(g_ - w_) <= t_)) {                                           \
-            print_error("%s: expected %.17g, got %.17g (|diff| %.3g > tol %.3g)\n", \
-                        what, w_, g_, fabs(g_ - w_), t_);                       \
-            fail();                                                             \
-        }                                                                       \
-    } while (0)
-
 #define CHECK_INT(got, want, what)                                              \
     do {                                                                        \
         long g_ = (long)(got), w_ = (long)(want);                               \
@@ -40,6 +29,8 @@
         }                                                                       \
     } while (0)
 
+#define SF_TEST_SEED 2024u
+#include "sf_test.h"   /* CHECK_CLOSE, urand */
 #include "topo_pat.h"
 
 /* ------------------------------------------------------------ invariants */
@@ -296,7 +287,7 @@ static void test_strip3(void **state)
             assert_true(f >= 0);
             char what[64];
             snprintf(what, sizeof what, "strip3 body area of the face at x=%g", probe[k]);
-            CHECK_CLOSE(t.faces[f].area, width[k] * 0.03, 1e-15, what);
+            CHECK_CLOSE(t.faces[f].area, width[k] * 0.03, 1e-15, "%s", what);
             CHECK_CLOSE(t.faces[f].centroid[0], cx[k], 1e-14, "strip3 centroid x");
             CHECK_CLOSE(t.faces[f].centroid[1], 0.015, 1e-14, "strip3 centroid y");
             assert_int_equal(t.faces[f].nverts, 4);
@@ -575,13 +566,6 @@ static void test_scale_and_plain(void **state)
     CHECK_CLOSE(t.faces[0].area, 0.64, 1e-15, "plain sheet area");
     sf_topology_free(&t);
     free(P);
-}
-
-static unsigned rng_state = 2024u;
-static double urand(double a, double b)
-{
-    rng_state = rng_state * 1103515245u + 12345u;
-    return a + (b - a) * ((rng_state >> 8) & 0xffffff) / (double)0x1000000;
 }
 
 /* square4 with every vertex moved at random (outline vertices along their

@@ -19,31 +19,31 @@ static void legendre(int nmax, double x, double *P)
         P[n + 1] = ((2.0 * n + 1.0) * x * P[n] - n * P[n - 1]) / (n + 1.0);
 }
 
+/* P_n(z) in *p; returns its derivative P_n'(z) (|z| < 1). */
+static double legendre_dp(int n, double z, double *p)
+{
+    double p0 = 1.0, p1 = z;
+    for (int k = 1; k < n; k++) {
+        double p2 = ((2.0 * k + 1.0) * z * p1 - k * p0) / (k + 1.0);
+        p0 = p1;
+        p1 = p2;
+    }
+    *p = p1;
+    return n * (z * p1 - p0) / (z * z - 1.0);
+}
+
 /* Gauss-Legendre rule with n points on [0, 1] (Newton on P_n). */
 static void gauss_legendre01(int n, double *x, double *w)
 {
     for (int i = 0; i < (n + 1) / 2; i++) {
-        double z = cos(M_PI * (i + 0.75) / (n + 0.5)), dp = 1.0;
+        double z = cos(M_PI * (i + 0.75) / (n + 0.5)), p;
         for (int it = 0; it < 100; it++) {
-            double p0 = 1.0, p1 = z;
-            for (int k = 1; k < n; k++) {
-                double p2 = ((2.0 * k + 1.0) * z * p1 - k * p0) / (k + 1.0);
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = n * (z * p1 - p0) / (z * z - 1.0);
-            double dz = p1 / dp;
+            double dp = legendre_dp(n, z, &p), dz = p / dp;
             z -= dz;
             if (fabs(dz) < 1e-16) break;
         }
-        /* recompute the derivative at the converged node */
-        double p0 = 1.0, p1 = z;
-        for (int k = 1; k < n; k++) {
-            double p2 = ((2.0 * k + 1.0) * z * p1 - k * p0) / (k + 1.0);
-            p0 = p1;
-            p1 = p2;
-        }
-        dp = n * (z * p1 - p0) / (z * z - 1.0);
+        /* the derivative at the converged node */
+        double dp = legendre_dp(n, z, &p);
         double wt = 2.0 / ((1.0 - z * z) * dp * dp);
         /* map from [-1, 1] to [0, 1] */
         x[i] = 0.5 * (1.0 - z);
