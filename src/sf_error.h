@@ -30,7 +30,9 @@ typedef struct sf_error {
 } sf_error;
 
 void sf_error_clear(sf_error *e);
-/* Record an error unless one is already recorded; returns code.  e may be NULL. */
+/* Record an error unless one is already recorded; returns code.  e may be
+ * NULL.  The message is kept on one line: control characters (a newline
+ * in a value) are written as escapes (\n, \t, \xNN). */
 int sf_fail(sf_error *e, int code, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 /* Put "context: " in front of the recorded message (no-op without error). */

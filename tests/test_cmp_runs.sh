@@ -4,12 +4,15 @@
 # (both end at p = 1): the largest difference of each fold angle is at
 # least its difference at the common end point, computed here with awk
 # from the two tables; --tol below it exits 8, above it 0; runs of
-# different sheets are refused.  Output is TAP.
+# different sheets are refused; analysis.convergence = true reruns at K+1
+# into DIR/kplus1 and DIR/convergence.tsv equals `compare` of the run
+# against a separate run with defaults.modes = 1; a later run without it
+# removes both.  Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 bin=${SF_BUILDDIR:-.}/src/smoothfold
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-echo "1..5"
+echo "1..7"
 s3="$src/studies/strip3.cfg"
 "$bin" run "$s3" -q --set output.shapes=0 -o "$tmp/k0" >/dev/null 2>&1
 "$bin" run "$s3" -q --set output.shapes=0 --set defaults.modes=2 -o "$tmp/k2" >/dev/null 2>&1
@@ -48,3 +51,18 @@ t1=$(printf '%s\n' "$out" | awk -F'\t' '$1 == "theta1" { print $2 }')
 "$bin" compare "$tmp/k0" "$tmp/f1" >/dev/null 2>"$tmp/err"; rc=$?
 [ $rc -eq 1 ] && grep -q "not the same sheet" "$tmp/err" && echo "ok 5 - different sheets refused: $(cat "$tmp/err")" \
     || echo "not ok 5 - different sheets: status $rc $(cat "$tmp/err")"
+# 6: analysis.convergence on strip3 (K = 0 everywhere)
+"$bin" run "$s3" --set output.shapes=0 --set analysis.convergence=true -o "$tmp/conv" >"$tmp/out" 2>"$tmp/err"; rc=$?
+"$bin" run "$s3" -q --set output.shapes=0 --set defaults.modes=1 -o "$tmp/k1" >/dev/null 2>&1
+"$bin" compare "$tmp/conv" "$tmp/k1" | grep -v '^#' >"$tmp/want"
+grep -v '^#' "$tmp/conv/convergence.tsv" >"$tmp/got" 2>/dev/null
+line=$(grep '^convergence (K = 0 against K+1): largest probe difference' "$tmp/out")
+if [ $rc -eq 0 ] && [ -s "$tmp/got" ] && cmp -s "$tmp/got" "$tmp/want" && [ -n "$line" ] && [ -s "$tmp/conv/kplus1/branch.tsv" ]; then
+    echo "ok 6 - analysis.convergence: convergence.tsv = compare against a K=1 run; $line"
+else
+    echo "not ok 6 - convergence: status $rc, '$line', $(cat "$tmp/err" | tail -1)"; diff "$tmp/got" "$tmp/want" | head -5 | sed 's/^/#   /'
+fi
+# 7: the next run into the same directory without it leaves neither behind
+"$bin" run "$s3" -q --set output.shapes=0 -o "$tmp/conv" >/dev/null 2>&1
+[ ! -e "$tmp/conv/kplus1" ] && [ ! -e "$tmp/conv/convergence.tsv" ] && echo "ok 7 - a later run removes kplus1/ and convergence.tsv" \
+    || echo "not ok 7 - left: $(ls "$tmp/conv")"

@@ -15,8 +15,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "commands.h"
+#include "study.h"
+#include "vtk.h"
 
 typedef struct run_table {
     char path[1100];
@@ -159,8 +162,10 @@ static int interp(const run_table *b, int c, double p, double *out)
     return 0;
 }
 
+/* The comparison table into f; worst[0], worst[1]: the largest probe [m]
+ * and fold angle [rad] differences (-1 when there is none). */
 static int compare_tables(const run_table *a, const run_table *b, const sf_options *o,
-                          sf_error *err)
+                          FILE *f, double worst_out[2], sf_error *err)
 {
     int na = 0, nb = 0;
     for (int c = 0; c < a->ncol; c++)
@@ -170,8 +175,8 @@ static int compare_tables(const run_table *a, const run_table *b, const sf_optio
     if (na != nb)
         return sf_fail(err, SF_EINPUT, "%s and %s: not the same sheet (%d and %d probe and "
                        "fold angle columns)", a->path, b->path, na, nb);
-    printf("# smoothfold compare: %s against %s (branch 1, B interpolated in p)\n", a->path, b->path);
-    printf("column\tmax_abs_diff\tat_p\tmax_abs_A\trelative\tpoints\n");
+    fprintf(f, "# smoothfold compare: %s against %s (branch 1, B interpolated in p)\n", a->path, b->path);
+    fprintf(f, "column\tmax_abs_diff\tat_p\tmax_abs_A\trelative\tpoints\n");
     int worst_c = -1, above = 0, wk[2] = {-1, -1};
     double worst = -1, wv[2] = {-1, -1};   /* per kind: probes [m], angles [rad] */
     long used_total = 0;
@@ -196,9 +201,9 @@ static int compare_tables(const run_table *a, const run_table *b, const sf_optio
             return sf_fail(err, SF_EINPUT, "%s and %s: no point of A within the p range of B",
                            a->path, b->path);
         used_total = used;
-        printf("%s\t%.6g\t%.6g\t%.6g\t", nm, dmax, at, amax);
-        if (amax > 0) printf("%.3g", dmax / amax); else printf("-");
-        printf("\t%d\n", used);
+        fprintf(f, "%s\t%.6g\t%.6g\t%.6g\t", nm, dmax, at, amax);
+        if (amax > 0) fprintf(f, "%.3g", dmax / amax); else fprintf(f, "-");
+        fprintf(f, "\t%d\n", used);
         int kind = nm[0] == 't';
         if (dmax > wv[kind]) { wv[kind] = dmax; wk[kind] = c; }
         if (o->have_tol && dmax > o->tol && (worst_c < 0 || dmax > worst)) { worst = dmax; worst_c = c; }
@@ -206,8 +211,10 @@ static int compare_tables(const run_table *a, const run_table *b, const sf_optio
     }
     for (int k = 0; k < 2; k++)
         if (wk[k] >= 0)
-            printf("# largest %s difference: %s %.6g %s over %ld matched points\n",
+            fprintf(f, "# largest %s difference: %s %.6g %s over %ld matched points\n",
                    k ? "fold angle" : "probe", a->name[wk[k]], wv[k], k ? "rad" : "m", used_total);
+    worst_out[0] = wv[0];
+    worst_out[1] = wv[1];
     if (above)
         return sf_fail(err, SF_EDIFFER, "compare: %d column%s differ by more than --tol=%g "
                        "(largest: %s, %.6g)", above, above == 1 ? "" : "s", o->tol,
@@ -221,8 +228,105 @@ int sf_cmd_compare(const char *dir_a, const char *dir_b, const sf_options *o, sf
     memset(&b, 0, sizeof b);
     int rc = table_read(&a, dir_a, err);
     if (!rc) rc = table_read(&b, dir_b, err);
-    if (!rc) rc = compare_tables(&a, &b, o, err);
+    double worst[2];
+    if (!rc) rc = compare_tables(&a, &b, o, stdout, worst, err);
     table_free(&a);
     table_free(&b);
+    return rc;
+}
+
+/* ---- analysis.convergence: the same run at K+1 ------------------------- */
+
+typedef struct conv_ctx {
+    const run_table *a, *b;
+    const sf_options *o;
+    double worst[2];
+    sf_error *err;
+} conv_ctx;
+
+static int fill_conv(void *vc, void *f)
+{
+    conv_ctx *c = vc;
+    int rc = compare_tables(c->a, c->b, c->o, f, c->worst, c->err);
+    return rc ? rc : (ferror((FILE *)f) ? SF_EIO : SF_OK);
+}
+
+int sf_cli_convergence(const sf_options *o, sf_error *err)
+{
+    char path[1100], sub[1100];
+    snprintf(path, sizeof path, "%s/branch.tsv", o->output);
+    if (access(path, F_OK) != 0) return SF_OK;   /* not an equilibrium path */
+    snprintf(path, sizeof path, "%s/study.cfg", o->output);
+    sf_study s;
+    sf_error serr;
+    sf_error_clear(&serr);
+    if (sf_study_load(path, 0, NULL, &s, &serr)) return SF_OK;
+    int on = 0;
+    sf_study_bool(&s, "analysis.convergence", 0, &on, NULL);
+    int n = s.nfolds, rc = SF_OK;
+    const char **sets = on ? calloc((size_t)(o->nset + n + 4), sizeof *sets) : NULL;
+    char **own = on ? calloc((size_t)n + 1, sizeof *own) : NULL;
+    if (on && (!sets || !own)) rc = sf_fail(err, SF_ENOMEM, "out of memory");
+    int ns = 0;
+    for (int i = 0; !rc && on && i < o->nset; i++) sets[ns++] = o->sets[i];
+    for (int i = 0; !rc && on && i < n; i++) {
+        if (s.folds[i].modes + 1 > SF_STUDY_MAX_MODES) {
+            rc = sf_fail(err, SF_EINPUT, "%s: analysis.convergence: fold %d has K = %d, the largest; "
+                         "no K+1 run", s.path, i + 1, s.folds[i].modes);
+            break;
+        }
+        own[i] = malloc(64);
+        if (!own[i]) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); break; }
+        snprintf(own[i], 64, "folds[%d].modes=%d", i, s.folds[i].modes + 1);
+        sets[ns++] = own[i];
+    }
+    int kmin = 1 << 30, kmax = 0;
+    for (int i = 0; i < n; i++) {
+        if (s.folds[i].modes < kmin) kmin = s.folds[i].modes;
+        if (s.folds[i].modes > kmax) kmax = s.folds[i].modes;
+    }
+    sf_study_free(&s);
+    if (!on || rc) {
+        for (int i = 0; own && i < n; i++) free(own[i]);
+        free(own);
+        free(sets);
+        return rc;
+    }
+    sets[ns++] = "analysis.convergence=false";
+    sets[ns++] = "output.shapes=0";
+    sets[ns++] = "output.plots=false";
+    sf_options o2 = *o;
+    snprintf(sub, sizeof sub, "%s/kplus1", o->output);
+    o2.output = sub;
+    o2.sets = sets;
+    o2.nset = ns;
+    o2.quiet = 1;
+    o2.plot = 0;
+    o2.have_tol = 0;
+    rc = sf_cmd_run(&o2, err);
+    if (rc == SF_ETOLERANCE) {   /* the reference check is the main run's business */
+        sf_error_clear(err);
+        rc = SF_OK;
+    }
+    if (rc) sf_error_prefix(err, "analysis.convergence: the run with K+1 shape modes");
+    run_table a, b;
+    memset(&a, 0, sizeof a);
+    memset(&b, 0, sizeof b);
+    if (!rc) rc = table_read(&a, o->output, err);
+    if (!rc) rc = table_read(&b, sub, err);
+    conv_ctx c = {&a, &b, &o2, {-1, -1}, err};
+    snprintf(path, sizeof path, "%s/convergence.tsv", o->output);
+    if (!rc) rc = sf_write_atomic(path, fill_conv, &c, err);
+    if (!rc && !o->quiet) {
+        printf("convergence (K = %d", kmin);
+        if (kmax != kmin) printf("..%d", kmax);
+        printf(" against K+1): largest probe difference %.3g m, fold angle %.3g rad (%s)\n",
+               c.worst[0], c.worst[1], path);
+    }
+    table_free(&a);
+    table_free(&b);
+    for (int i = 0; i < n; i++) free(own[i]);
+    free(own);
+    free(sets);
     return rc;
 }

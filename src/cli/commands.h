@@ -29,11 +29,18 @@ int sf_cmd_sweep(int argc, char **argv);
  * removed, a foreign non-empty directory refused without --force); says
  * on stderr what it removed unless quiet. */
 int sf_cli_outdir(const sf_options *o, const char *dir, sf_error *err);
+/* After `run`: when the study asks (analysis.convergence), run it again
+ * with K+1 shape modes in every fold into DIR/kplus1, write
+ * DIR/convergence.tsv and print the largest differences (cmp_runs.c). */
+int sf_cli_convergence(const sf_options *o, sf_error *err);
 /* Differences between two equilibrium runs (cmp_runs.c). */
 int sf_cmd_compare(const char *dir_a, const char *dir_b, const sf_options *o, sf_error *err);
 /* Run the gnuplot scripts of plots/ on a run directory (plot.c); folds:
  * which folds angles.png draws (names, groups, numbers, "all"), or NULL. */
 int sf_cmd_plot(const char *dir, const char *folds, sf_error *err);
+/* After `run` of an equilibrium path: the plots when --plot, or when the
+ * study's output.plots is true and --no-plot was not given. */
+int sf_cli_run_plots(const sf_options *o, sf_error *err);
 /* plots/trajectory.gp on a dynamics run directory (prints nothing). */
 int sf_plot_trajectory(const char *dir, sf_error *err);
 

@@ -11,7 +11,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "commands.h"
 #include "kinematics.h"
@@ -56,7 +55,7 @@ static const char *usage_text =
     "      --force             run: write into a directory that holds other\n"
     "                          files than smoothfold's (they are kept)\n"
     "      --plot, --no-plot   run: draw the plots afterwards, or not (default:\n"
-    "                          a dynamics run draws them, an equilibrium run not)\n"
+    "                          output.plots: true for dynamics, false else)\n"
     "      --folds=LIST        plot, run --plot: folds drawn in angles.png (names,\n"
     "                          groups, numbers, or all)\n"
     "  -q, --quiet             no progress lines\n"
@@ -65,8 +64,9 @@ static const char *usage_text =
     "\n"
     "Exit status: 0 success, 1 bad input, 2 usage error, 3 numerical failure,\n"
     "4 file error, 5 constraints leave no motion, 6 a reference comparison\n"
-    "exceeded its tolerance (run: see DIR/compare.tsv), 8 compare: the runs\n"
-    "differ by more than --tol.\n"
+    "exceeded its tolerance (run: see DIR/compare.tsv), 7 the run stopped\n"
+    "at analysis.max_steps inside its range (results written, with a line\n"
+    "# STOPPED EARLY), 8 compare: the runs differ by more than --tol.\n"
     "Documentation: docs/study-format.md, docs/output-format.md.\n";
 
 /* One command: its name, its positional arguments and its own help. */
@@ -98,10 +98,10 @@ static const command commands[] = {
      "of smoothfold in DIR are removed first (the message says which); a DIR that\n"
      "holds other files is refused unless --force is given (they are kept).\n"
      "--plot / --no-plot: draw the plots afterwards (as `smoothfold plot DIR`), or\n"
-    "not (default: a dynamics run draws them, an equilibrium run does not).\n"
+    "not (default: the study's output.plots, true for dynamics, false else).\n"
      "Exit status: 0 the end of the range was reached, 1 bad input, 2 usage error,\n"
      "3 numerical failure, 4 file error, 5 no motion, 6 reference tolerance\n"
-     "exceeded.\n"},
+     "exceeded, 7 stopped at analysis.max_steps inside the range.\n"},
     {"plot", 1, "DIR",
      "Usage: smoothfold plot DIR [--folds=LIST]\n"
      "Draw the diagrams of the results of `smoothfold run` in DIR with gnuplot\n"
@@ -185,12 +185,10 @@ static int dispatch(const command *cmd, char **args, sf_options *opt)
         if (strcmp(cmd->name, "check") == 0) rc = sf_cmd_check(opt, &err);
         else if (strcmp(cmd->name, "shape") == 0) rc = sf_cmd_shape(opt, &err);
         else rc = sf_cmd_run(opt, &err);
-        if (rc == SF_OK && strcmp(cmd->name, "run") == 0 && opt->plot == 1) {
-            /* --plot on an equilibrium run (a dynamics run draws its own) */
-            char branch[1100];
-            snprintf(branch, sizeof branch, "%s/branch.tsv", opt->output);
-            if (access(branch, F_OK) == 0) rc = sf_cmd_plot(opt->output, opt->folds, &err);
-        }
+        if (rc == SF_OK && strcmp(cmd->name, "run") == 0)
+            rc = sf_cli_convergence(opt, &err);  /* analysis.convergence: K+1 */
+        if (rc == SF_OK && strcmp(cmd->name, "run") == 0)
+            rc = sf_cli_run_plots(opt, &err);   /* --plot, output.plots */
     }
     if (rc != SF_OK) {
         fprintf(stderr, "smoothfold: %s\n", err.code ? err.msg : "failed");

@@ -20,6 +20,8 @@
 #include "outbuf.h"
 #include "study.h"
 
+#include <libconfig.h>
+
 #ifndef SF_SRCDIR
 #define SF_SRCDIR "."
 #endif
@@ -167,6 +169,18 @@ static int plot_vars(const char *dir, const char *folds, sf_outbuf *v, sf_error 
     for (int i = 0; i < s.ngroups; i++) sf_outbuf_printf(v, "%s%s", i ? " " : "", s.groups[i].name);
     sf_outbuf_printf(v, "\";");
     int rc = SF_OK;
+    char fromstudy[4096] = "";
+    if (!folds && sf_study_count(&s, "output.plot_folds") > 0) {
+        /* the study's selection, as a --folds list */
+        int n = sf_study_count(&s, "output.plot_folds");
+        config_setting_t *a = config_lookup((const config_t *)s.cfg, "output.plot_folds");
+        for (int i = 0; a && i < n; i++) {
+            const char *w = config_setting_get_string_elem(a, i);
+            size_t l = strlen(fromstudy);
+            snprintf(fromstudy + l, sizeof fromstudy - l, "%s%s", i ? "," : "", w ? w : "");
+        }
+        folds = fromstudy;
+    }
     if (folds) {
         sf_outbuf_printf(v, " sf_select = \"");
         rc = select_folds(&s, folds, v, err);
@@ -175,6 +189,30 @@ static int plot_vars(const char *dir, const char *folds, sf_outbuf *v, sf_error 
     sf_study_free(&s);
     if (!rc && v->oom) rc = sf_fail(err, SF_ENOMEM, "out of memory");
     return rc;
+}
+
+int sf_cli_run_plots(const sf_options *o, sf_error *err)
+{
+    char path[1100];
+    snprintf(path, sizeof path, "%s/branch.tsv", o->output);
+    struct stat st;
+    if (stat(path, &st) != 0) return SF_OK;   /* a dynamics run draws its own */
+    int want = o->plot;
+    if (want < 0) {   /* the merged study the run wrote: output.plots */
+        sf_study s;
+        sf_error serr;
+        sf_error_clear(&serr);
+        snprintf(path, sizeof path, "%s/study.cfg", o->output);
+        want = 0;
+        if (sf_study_load(path, 0, NULL, &s, &serr) == SF_OK) {
+            /* the schema's default (true) is a dynamics default: an
+             * equilibrium study draws only when it says so */
+            if (sf_study_has(&s, "output.plots")) sf_study_bool(&s, "output.plots", 0, &want, NULL);
+            sf_study_free(&s);
+        }
+    }
+    if (!want) return SF_OK;
+    return sf_cmd_plot(o->output, o->folds, err);
 }
 
 int sf_plot_trajectory(const char *dir, sf_error *err)

@@ -67,6 +67,14 @@ typedef struct run_ctx {
     sf_outbuf bnotes;
     int skip_start;       /* the next point repeats the last one (stage restart) */
     double seg_end;       /* end of the stage being followed (multi-stage loads) */
+    double p_lo, p_hi;    /* the parameter range of the path */
+    int max_steps;        /* analysis.max_steps */
+    int short_stop;       /* a branch stopped at max_steps inside the range */
+    double short_p;       /* where (the first one) */
+    int short_branch;
+    int branch_end;       /* the point being written ends its branch */
+    int shape_every;      /* output.shape_every: a shape every N points */
+    long last_shape_pt;   /* row of the last shape */
     sf_reactions reac;    /* reactions.tsv rows (supports, prescribed displacement) */
     sf_compare *cmp;      /* reference data of the study (compare.h), or NULL */
     int compared;         /* comparison done */
@@ -132,12 +140,26 @@ static int on_point(const cont_point *pt, void *data)
         return 0;
     }
     cont_point relabel;
-    if (strcmp(pt->label, "EP") == 0 && fabs(pt->p - r->seg_end) <= 1e-9 &&
-        fabs(r->seg_end - r->p_end) > 1e-9) {
+    int ends = strcmp(pt->label, "EP") == 0;   /* the last point of a branch */
+    r->branch_end = ends;
+    if (ends && fabs(pt->p - r->seg_end) <= 1e-9 && fabs(r->seg_end - r->p_end) > 1e-9) {
         /* the end of a load stage inside the path is a regular point */
         relabel = *pt;
         relabel.label[0] = '\0';
         pt = &relabel;
+    } else if (ends && fabs(pt->p - r->p_lo) > 1e-9 * (1 + fabs(r->p_lo)) &&
+               fabs(pt->p - r->p_hi) > 1e-9 * (1 + fabs(r->p_hi)) &&
+               fabs(pt->p - r->seg_end) > 1e-9) {
+        /* the engine ended the branch inside the range: analysis.max_steps
+         * (the only other stop rule here), not an end point */
+        relabel = *pt;
+        relabel.label[0] = '\0';
+        pt = &relabel;
+        if (!r->short_stop) {
+            r->short_stop = 1;
+            r->short_p = pt->p;
+            r->short_branch = r->bif.branch;
+        }
     }
     sf_equil *eq = &r->eq;
     if (r->do_stab) {
@@ -236,24 +258,32 @@ static int write_point(run_ctx *r, const cont_point *pt)
             return 1;
         }
     }
-    /* shapes: the first point of each branch, then one whenever p has
-     * moved by shape_dp since the last shape, and the last point */
+    /* shapes: the first and last point of each branch, every special
+     * point, every output.shape_every points, and whenever p has moved by
+     * shape_dp since the last shape (so a snap segment, where p hardly
+     * moves, still has its shapes) */
     int want = r->nshapes > 0 &&
-               (r->branch_first || strcmp(pt->label, "EP") == 0 ||
+               (r->branch_first || r->branch_end || special ||
+                (r->shape_every > 0 && r->npoints - r->last_shape_pt >= r->shape_every) ||
                 (r->shape_dp > 0 && fabs(pt->p - r->last_shape_p) >= r->shape_dp * (1 - 1e-9)));
     r->branch_first = 0;
     if (want) {
         char rel[64], path[1200];
         snprintf(rel, sizeof rel, "shapes/shape_%04ld.vtp", r->npoints);
         snprintf(path, sizeof path, "%s/%s", r->dir, rel);
-        if (sf_vtk_write_shape(m, pt->y, s->samples, path, r->err) ||
-            sf_pvd_add(&r->pvd, pt->p, rel, r->err) ||
+        /* time in the .pvd: the row number (monotone along the branch,
+         * also where p turns back); p and the row are field data */
+        const char *fname[2] = {"p", "point"};
+        double fval[2] = {pt->p, (double)r->npoints};
+        if (sf_vtk_write_shape_fields(m, pt->y, s->samples, path, 2, fname, fval, r->err) ||
+            sf_pvd_add(&r->pvd, (double)r->npoints, rel, r->err) ||
             sf_foldrec_add(&r->foldrec, pt->y, pt->p, load, r->do_stab ? r->stab.res.stable : -1,
                            r->bif.branch, r->err)) {
             r->failed = 1;
             return 1;
         }
         r->last_shape_p = pt->p;
+        r->last_shape_pt = r->npoints;
     }
     if (r->cmp) {
         /* reference comparison: points of each branch form their own block */
@@ -410,6 +440,12 @@ static int run_equilibrium(run_ctx *r)
         sf_study_string(s, "analysis.eigensolver", "auto", &eigsolver, err) ||
         sf_study_bool(s, "analysis.step_bound", 1, &r->step_bound, err))
         return err->code;
+    if (stab_on && nev > sc->model.nq) {
+        /* bounded by the problem: no more eigenvalues exist than coordinates */
+        sf_outbuf_printf(&r->header, "# note: analysis.eigenvalues = %d, but the sheet has %d "
+                         "generalised coordinates: %d reported\n", nev, sc->model.nq, sc->model.nq);
+        nev = sc->model.nq;
+    }
     r->do_stab = stab_on;
     r->nev = stab_on ? nev : 0;
     sf_bif_hooks hooks = {r, on_note, on_located, on_branch, on_failed};
@@ -466,7 +502,11 @@ static int run_equilibrium(run_ctx *r)
     cont_set_store(cs, 0);
     r->p_start = start;
     r->p_end = end;
+    r->p_lo = lo;
+    r->p_hi = hi;
+    r->max_steps = max_steps;
     r->nshapes = s->shapes;
+    if (sf_study_int(s, "output.shape_every", 0, &r->shape_every, err)) return err->code;
     r->shape_dp = s->shapes > 0 ? fabs(end - start) / s->shapes : 0.0;
     r->branch_first = 1;
     double *y0 = calloc((size_t)eq->n + 1, sizeof(double));
@@ -694,6 +734,10 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
             rc = err->code;
         } else if (!rc) {
             cont_get_stats(r.solver, NULL, &r.tot);
+            if (r.short_stop)   /* complete files, an honest header and status */
+                sf_outbuf_printf(&r.header, "# STOPPED EARLY: analysis.max_steps = %d reached on "
+                                 "branch %d at p = %.10g, inside the range [%g, %g]\n", r.max_steps,
+                                 r.short_branch, r.short_p, r.p_lo, r.p_hi);
             if (r.cmp) {
                 /* solve at fixed p in the whole path's parametrisation
                  * (every stage ramps over its own interval), not in the
@@ -711,6 +755,11 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
         sf_compare_print(r.cmp, stdout);
     }
     if (!rc && r.compared) rc = sf_compare_check(r.cmp, err);
+    if (!rc && r.short_stop)
+        rc = sf_fail(err, SF_ESHORT, "%s: stopped early: analysis.max_steps = %d reached on branch "
+                     "%d at p = %.6g, short of the end of the range [%g, %g]; results so far in "
+                     "%s (raise analysis.max_steps or analysis.step)", sc.study.path, r.max_steps,
+                     r.short_branch, r.short_p, r.p_lo, r.p_hi, r.dir);
     sf_compare_free(r.cmp);
     if (r.solver) cont_free(r.solver);
     sf_bif_free(&r.bif);

@@ -204,8 +204,10 @@ int sf_run_dynamics(sf_scene *sc, const sf_options *o, sf_error *err)
                    r.max_drift, now() - t0, r.dir);
         sf_error perr;
         sf_error_clear(&perr);
-        if (o->plot == 0)
-            ;   /* --no-plot */
+        int want = o->plot;
+        if (want < 0 && sf_study_bool(&sc->study, "output.plots", 1, &want, NULL)) want = 1;
+        if (!want)
+            ;   /* --no-plot, output.plots = false */
         else if (sf_plot_trajectory(r.dir, &perr) != SF_OK)
             fprintf(stderr, "smoothfold: warning: no plot: %s\n", perr.msg);
         else if (!o->quiet)

@@ -153,6 +153,9 @@ static int own_work(dispatcher *d)
         die(&err);
     }
     d->own = 0;
+    /* killed by the signal that stops the sweep: not finished (as in
+     * sweep.c); the resume runs it again */
+    if (stop_signal && WIFSIGNALED(st)) return 0;
     char *row = sf_sweep_collect(d->sw->plan, d->sw->dir, d->own_v, st, sf_sweep_now() - d->own_t0);
     if (!row) {
         sf_fail(&err, SF_ENOMEM, "sweep: out of memory");

@@ -48,7 +48,16 @@ static int scan(const char *dir, int doit, int *own, int *other, char *first_oth
         snprintf(path, sizeof path, "%s/%s", dir, nm);
         struct stat st;
         if (lstat(path, &st) != 0) continue;
-        if (S_ISDIR(st.st_mode) && !strcmp(nm, "shapes")) {
+        if (S_ISDIR(st.st_mode) && !strcmp(nm, "kplus1")) {
+            /* the K+1 run of analysis.convergence: a run directory of its own */
+            int o2 = 0, x2 = 0;
+            char fo[256] = "";
+            rc = scan(path, doit, &o2, &x2, fo, sizeof fo, err);
+            *own += o2;
+            *other += x2;
+            if (x2 && !first_other[0]) snprintf(first_other, nfo, "kplus1/%s", fo);
+            if (!rc && doit && !x2) rmdir(path);
+        } else if (S_ISDIR(st.st_mode) && !strcmp(nm, "shapes")) {
             DIR *sd = opendir(path);
             if (!sd) { rc = sf_fail(err, SF_EIO, "%s: cannot read directory: %s", path, strerror(errno)); break; }
             struct dirent *se;

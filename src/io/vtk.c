@@ -58,6 +58,9 @@ typedef struct shape_ctx {
     const double *q;
     int samples;
     sf_kin k;
+    int nfields;
+    const char *const *fname;
+    const double *fval;
 } shape_ctx;
 
 /* Finite value for the file: NaN never reaches an output. */
@@ -78,7 +81,15 @@ static int fill_shape(void *vctx, void *vf)
     ncells += (long)m->nfolds * ns;
     fprintf(f, "<?xml version=\"1.0\"?>\n");
     fprintf(f, "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\">\n");
-    fprintf(f, "<PolyData>\n<Piece NumberOfPoints=\"%ld\" NumberOfVerts=\"0\" "
+    fprintf(f, "<PolyData>\n");
+    if (c->nfields > 0) {
+        fprintf(f, "<FieldData>\n");
+        for (int i = 0; i < c->nfields; i++)
+            fprintf(f, "<DataArray type=\"Float64\" Name=\"%s\" NumberOfTuples=\"1\" "
+                       "format=\"ascii\">%.12g</DataArray>\n", c->fname[i], c->fval[i]);
+        fprintf(f, "</FieldData>\n");
+    }
+    fprintf(f, "<Piece NumberOfPoints=\"%ld\" NumberOfVerts=\"0\" "
                "NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"%ld\">\n",
             npts, ncells);
     /* points and displacements: faces first, then bands */
@@ -181,7 +192,17 @@ static int fill_shape(void *vctx, void *vf)
 int sf_vtk_write_shape(const sf_model *m, const double *q, int samples,
                        const char *path, sf_error *err)
 {
-    shape_ctx c = {m, q, samples < 1 ? 1 : samples, {0}};
+    return sf_vtk_write_shape_fields(m, q, samples, path, 0, NULL, NULL, err);
+}
+
+int sf_vtk_write_shape_fields(const sf_model *m, const double *q, int samples,
+                              const char *path, int nfields, const char *const *names,
+                              const double *values, sf_error *err)
+{
+    shape_ctx c = {m, q, samples < 1 ? 1 : samples, {0}, nfields, names, values};
+    for (int i = 0; i < nfields; i++)
+        if (!isfinite(values[i]))
+            return sf_fail(err, SF_ENUMERIC, "%s: field %s is not finite", path, names[i]);
     /* ParaView chooses its reader by the extension: write only what the
      * name says */
     const char *dot = strrchr(path, '.'), *sl = strrchr(path, '/');

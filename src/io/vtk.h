@@ -22,6 +22,12 @@
 int sf_vtk_write_shape(const sf_model *m, const double *q, int samples,
                        const char *path, sf_error *err);
 
+/* The same with field data: nfields named numbers (e.g. the parameter p
+ * and the row of a shape along a path) in the file's FieldData. */
+int sf_vtk_write_shape_fields(const sf_model *m, const double *q, int samples,
+                              const char *path, int nfields, const char *const *names,
+                              const double *values, sf_error *err);
+
 /* A series of shapes for ParaView: a .pvd naming one .vtp per time. */
 typedef struct sf_pvd {
     char path[1024];

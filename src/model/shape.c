@@ -5,6 +5,7 @@
  * (G1, K = 0), whose chord has closed forms.
  */
 #include "shape.h"
+#include "pattern.h"   /* SF_QUADRATURE_MIN, SF_QUADRATURE_MAX */
 
 #include <math.h>
 #include <stdlib.h>
@@ -62,8 +63,9 @@ int sf_section_init(sf_section *sec, double w, int continuity, int K,
         return sf_fail(err, SF_EINPUT, "continuity must be 1 or 2 (got %d)", continuity);
     if (K < 0 || K > 64)
         return sf_fail(err, SF_EINPUT, "number of shape modes must be in 0..64 (got %d)", K);
-    if (nquad < 2 || nquad > 512)
-        return sf_fail(err, SF_EINPUT, "quadrature order must be in 2..512 (got %d)", nquad);
+    if (nquad < SF_QUADRATURE_MIN || nquad > SF_QUADRATURE_MAX)
+        return sf_fail(err, SF_EINPUT, "quadrature order must be in %d..%d (got %d)",
+                       SF_QUADRATURE_MIN, SF_QUADRATURE_MAX, nquad);
     sec->w = w;
     sec->continuity = continuity;
     sec->K = K;

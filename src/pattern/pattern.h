@@ -9,6 +9,10 @@
 #define SF_PATTERN_H
 
 #define SF_NAME_MAX 64
+/* Gauss-Legendre points across a fold section (solver.quadrature): the
+ * one range, checked by the study schema and by the section model */
+#define SF_QUADRATURE_MIN 2
+#define SF_QUADRATURE_MAX 64
 
 typedef struct sf_material {
     char name[SF_NAME_MAX];

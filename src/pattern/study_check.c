@@ -124,6 +124,9 @@ int st_check_group(const sf_study *s, sf_error *err,
         int rc = check_node(s, err, m, ck, cp);
         if (rc) return rc;
     }
+    /* a group switched off (enabled = false, e.g. gravity) needs nothing else */
+    const config_setting_t *en = config_setting_get_member(st, "enabled");
+    if (en && en->type == CONFIG_TYPE_BOOL && !config_setting_get_bool(en)) return SF_OK;
     int nschema;
     const sf_study_key *schema = sf_study_schema(&nschema);
     for (int i = 0; i < nschema; i++) {

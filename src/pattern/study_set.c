@@ -47,6 +47,53 @@ void st_trim(char *t)
     if (i) memmove(t, t + i, n - i + 1);
 }
 
+/* The value text as the schema types the key: a bare word for a string
+ * key is that string (the shell ate the quotes of "penalty"); integers
+ * where the key holds real numbers (a number, [x, y], [x, y, z]) are
+ * those numbers ([0, 0.01] would be a mixed array to libconfig).  Other
+ * values are left as they are.  Returns 0, or -1 when out is too small. */
+static int typed_value(const sf_study_key *k, const char *val, char *out, size_t n)
+{
+    size_t o = 0;
+#define PUT(ch) do { if (o + 1 >= n) return -1; out[o++] = (ch); } while (0)
+    if (k && k->type == SF_KEY_STRING && val[0] != '"') {
+        PUT('"');
+        for (const char *p = val; *p; p++) {
+            if (*p == '"' || *p == '\\') PUT('\\');
+            PUT(*p);
+        }
+        PUT('"');
+    } else if (k && (k->type == SF_KEY_NUMBER || k->type == SF_KEY_VEC2 || k->type == SF_KEY_VEC3)) {
+        int instr = 0;
+        for (const char *p = val; *p; p++) {
+            if (*p == '"') instr = !instr;
+            int start = !instr && isdigit((unsigned char)*p) &&
+                        (p == val || !(isalnum((unsigned char)p[-1]) || p[-1] == '.' || p[-1] == '_'));
+            if (!start || (p[0] == '0' && (p[1] == 'x' || p[1] == 'X'))) { PUT(*p); continue; }
+            /* the whole literal: digits [. digits] [e [+-] digits] */
+            const char *q = p;
+            int is_int = 1;
+            while (isdigit((unsigned char)*q)) q++;
+            if (*q == '.') { is_int = 0; q++; while (isdigit((unsigned char)*q)) q++; }
+            if ((*q == 'e' || *q == 'E') &&
+                (isdigit((unsigned char)q[1]) || ((q[1] == '-' || q[1] == '+') && isdigit((unsigned char)q[2])))) {
+                is_int = 0;
+                q += 2;
+                while (isdigit((unsigned char)*q)) q++;
+            }
+            if (isalpha((unsigned char)*q) || *q == '_') is_int = 0;   /* 5L, or a word */
+            for (; p < q; p++) PUT(*p);
+            if (is_int) { PUT('.'); PUT('0'); }
+            p--;
+        }
+    } else {
+        for (const char *p = val; *p; p++) PUT(*p);
+    }
+    out[o] = '\0';
+    return 0;
+#undef PUT
+}
+
 int st_apply_set(config_t *cfg, const char *text, sf_error *err)
 {
     char key[512], val[4096], shown[4700], msg[1024];
@@ -68,6 +115,16 @@ int st_apply_set(config_t *cfg, const char *text, sf_error *err)
     if (!key[0]) return sf_fail(err, SF_EINPUT, "%s: empty key", shown);
     if (!val[0]) return sf_fail(err, SF_EINPUT, "%s: empty value", shown);
 
+    /* the key first: its schema type decides how the value reads */
+    resolved r;
+    if (st_resolve(cfg, key, 1, shown, &r, msg, sizeof msg))
+        return sf_fail(err, SF_EINPUT, "%s: %s", shown, msg);
+    char typed[sizeof val + 64];
+    if (typed_value(r.key, val, typed, sizeof typed))
+        return sf_fail(err, SF_EINPUT, "%.60s...: too long", shown);
+    snprintf(val, sizeof val, "%s", typed);
+    lv = strlen(val);
+
     char tok[64];
     if (st_find_int_overflow(val, tok, sizeof tok))
         return sf_fail(err, SF_EINPUT,
@@ -84,10 +141,10 @@ int st_apply_set(config_t *cfg, const char *text, sf_error *err)
     int ok = config_read_string(&tmp, buf);
     free(buf);
     if (!ok) {
-        int r = sf_fail(err, SF_EINPUT, "%s: %s (the value must be in libconfig syntax, e.g. 0.02, \"text\", [0.0, 1.0], true)",
-                        shown, config_error_text(&tmp));
+        int code = sf_fail(err, SF_EINPUT, "%s: %s (the value must be in libconfig syntax, e.g. 0.02, \"text\", [0.0, 1.0], true)",
+                           shown, config_error_text(&tmp));
         config_destroy(&tmp);
-        return r;
+        return code;
     }
     config_setting_t *root = config_root_setting(&tmp);
     config_setting_t *v = config_setting_get_member(root, "v");
@@ -96,11 +153,6 @@ int st_apply_set(config_t *cfg, const char *text, sf_error *err)
         return sf_fail(err, SF_EINPUT, "%s: the value must be a single value", shown);
     }
 
-    resolved r;
-    if (st_resolve(cfg, key, 1, shown, &r, msg, sizeof msg)) {
-        config_destroy(&tmp);
-        return sf_fail(err, SF_EINPUT, "%s: %s", shown, msg);
-    }
     config_setting_t *t = r.node;
     int rc = SF_OK;
     if (t && t->type == CONFIG_TYPE_FLOAT && (v->type == CONFIG_TYPE_INT || v->type == CONFIG_TYPE_INT64)) {
