@@ -21,7 +21,7 @@ gen_flat() {   # output, pattern options...
     "$bin" pattern "$@" -o "$out.gen.cfg" 2>/dev/null &&
         sed 's/^\(  { name = "[a-z0-9]*"; rest_angle = \)-\{0,1\}[0-9.]*;/\10.0;/' "$out.gen.cfg" >"$out"
 }
-echo "1..7"
+echo "1..8"
 
 # 1-4: each pattern folds from flat with exact closure to the end of its path
 run_flat() {   # name, study, extra args
@@ -70,7 +70,20 @@ else
     nok "solver.flat_branch = 4: exit $st"; sed 's/^/#   /' "$tmp/wa4.out" | head -5
 fi
 
-# 7: no branch along the driving (2x2 Miura, K = 1, tip load): the
+# 7: a 3x3 Miura sheet, which stalled at p = 1.2e-5 (ds_min) before: the
+# flat state's residual (1.4e-14 of rounding) had been taken for a
+# non-flat start
+"$bin" pattern miura --cells=3x3 --set analysis.end=0.1 -o "$tmp/m3.cfg" 2>/dev/null
+"$bin" run "$tmp/m3.cfg" -q -o "$tmp/m3" >"$tmp/m3.out" 2>&1
+st=$?
+b="$tmp/m3/branch.tsv"
+if [ $st = 0 ] && [ "$(col "$b" type)" = EP ] && grep -q '^# flat start' "$b"; then
+    ok "miura 3x3 starts at the flat state, reaches p = $(col "$b" p), tip uz $(col "$b" probe1_uz) m"
+else
+    nok "miura 3x3 start: exit $st"; sed 's/^/#   /' "$tmp/m3.out" | head -5
+fi
+
+# 8: no branch along the driving (2x2 Miura, K = 1, tip load): the
 # message says what was found and what to try
 gen_flat "$tmp/ml.cfg" miura --load=0.01
 "$bin" run "$tmp/ml.cfg" -q -o "$tmp/ml" >"$tmp/ml.out" 2>&1
