@@ -7,7 +7,7 @@ src=${SF_SRCDIR:-$(dirname "$0")/..}
 bin=${SF_BUILDDIR:-.}/src/smoothfold
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-echo "1..23"
+echo "1..25"
 n=0
 ok() { n=$((n + 1)); echo "ok $n - $1"; }
 notok() { n=$((n + 1)); echo "not ok $n - $1"; }
@@ -89,3 +89,13 @@ if [ $rc -eq 0 ] && [ -s "$tmp/dn/trajectory.tsv" ] && [ ! -e "$tmp/dn/trajector
 else
     notok "dynamics --no-plot: status $rc: $(cat "$tmp/err"), $(ls "$tmp/dn")"
 fi
+# values far outside physical sense: one warning line each, status 0
+out=$("$bin" check "$s3" --set 'folds[0].rest_angle=90' --set 'folds[1].width=1e-12' 2>&1 >/dev/null); rc=$?
+if [ $rc -eq 0 ] && [ "$(printf '%s\n' "$out" | grep -c '^smoothfold: warning: ')" -eq 2 ] &&
+   printf '%s' "$out" | grep -q "fold 1: rest_angle 90 rad is beyond pi" && printf '%s' "$out" | grep -q "fold 2: width 1e-12 m is below"; then
+    ok "warnings for rest_angle = 90 and width = 1e-12 m, status 0"
+else
+    notok "warnings: status $rc: $out"
+fi
+out=$("$bin" check "$s3" 2>&1 >/dev/null)
+[ -z "$out" ] && ok "no warning for strip3 as it is" || notok "strip3 warns: $out"

@@ -62,6 +62,7 @@ int sf_cmd_check(const sf_options *o, sf_error *err)
         sf_scene_close(&sc);
         return err->code;
     }
+    sf_cli_warn(&sc.study);
     const sf_study *s = &sc.study;
     const sf_topology *t = &sc.topo;
     const sf_model *m = &sc.model;
@@ -127,6 +128,31 @@ int sf_cmd_check(const sf_options *o, sf_error *err)
     return rc;
 }
 
+void sf_cli_warn(const sf_study *s)
+{
+    /* values far outside physical sense: one line each, the run goes on */
+    for (int i = 0; i < s->nfolds; i++) {
+        const sf_fold_def *f = &s->folds[i];
+        if (fabs(f->rest_angle) > M_PI)
+            fprintf(stderr, "smoothfold: warning: %s:%d: fold %d: rest_angle %g rad is beyond pi "
+                    "(radians are meant; degrees?)\n", s->path, f->line, i + 1, f->rest_angle);
+        if (f->width < 1e-6)
+            fprintf(stderr, "smoothfold: warning: %s:%d: fold %d: width %g m is below a micrometre "
+                    "(metres are meant)\n", s->path, f->line, i + 1, f->width);
+    }
+    for (int g = 0; g < s->ngroups; g++)
+        if (fabs(s->groups[g].rest_angle) > M_PI)
+            fprintf(stderr, "smoothfold: warning: %s:%d: actuation group %s: rest_angle %g rad is "
+                    "beyond pi (radians are meant; degrees?)\n", s->path, s->groups[g].line,
+                    s->groups[g].name, s->groups[g].rest_angle);
+    for (int m = 0; m < s->nmaterials; m++) {
+        const sf_material *mt = &s->materials[m];
+        if (mt->E > 0 && (mt->E < 1e3 || mt->E > 1e13))
+            fprintf(stderr, "smoothfold: warning: %s: material %s: E = %g Pa is outside 1 kPa .. "
+                    "10 TPa (pascals are meant)\n", s->path, mt->name, mt->E);
+    }
+}
+
 int sf_cli_outdir(const sf_options *o, const char *dir, sf_error *err)
 {
     int removed = 0;
@@ -175,6 +201,7 @@ int sf_cmd_shape(const sf_options *o, sf_error *err)
         sf_scene_close(&sc);
         return err->code;
     }
+    sf_cli_warn(&sc.study);
     const sf_model *m = &sc.model;
     double *q = calloc((size_t)m->nq + 1, sizeof(double));
     double *theta = calloc((size_t)m->nfolds + 1, sizeof(double));

@@ -25,6 +25,11 @@ int sf_cmd_run(const sf_options *o, sf_error *err);
 /* `smoothfold sweep STUDY.cfg [OPTION]...` (argv[0] = "sweep"): parses
  * its own options, returns the exit status (sweep.c, docs/sweep.md). */
 int sf_cmd_sweep(int argc, char **argv);
+/* One warning line on stderr per value far outside physical sense
+ * (rest angles beyond pi, widths below a micrometre, E outside 1 kPa ..
+ * 10 TPa); the study stays valid. */
+struct sf_study;
+void sf_cli_warn(const struct sf_study *s);
 /* Prepare the output directory of a run (outdir.h: own earlier outputs
  * removed, a foreign non-empty directory refused without --force); says
  * on stderr what it removed unless quiet. */

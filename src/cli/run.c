@@ -683,6 +683,7 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
         sf_scene_close(&sc);
         return err->code;
     }
+    sf_cli_warn(&sc.study);
     if (strcmp(sc.study.analysis_type, "dynamics") == 0) {
         /* reference data are compared with equilibrium paths only: say so
          * rather than ignore a declared tolerance silently */

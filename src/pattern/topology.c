@@ -443,6 +443,26 @@ static int build_tree(topo_build *B)
     if (root < 0)
         return tp_fail_line(B, s->fixed_line, "fixed point (%g, %g) is outside the sheet",
                          s->fixed_point[0], s->fixed_point[1]);
+    {   /* on a vertex shared by faces the point names no one face (on a
+         * fold line the face with the larger margin is taken, as before) */
+        int nface = 0, other = -1;
+        for (int f = 0; f < nf; f++) {
+            double m;
+            if (tp_poly_classify(t->faces[f].poly.n, t->faces[f].poly.p, s->fixed_point, t->tol, &m) >= 0) {
+                nface++;
+                if (f != root) other = f;
+            }
+        }
+        int vx = -1;
+        for (int v = 0; v < s->nvertices && vx < 0; v++)
+            if (hypot(s->vertices[v].x[0] - s->fixed_point[0],
+                      s->vertices[v].x[1] - s->fixed_point[1]) <= t->tol) vx = v;
+        if (nface > 1 && vx >= 0)
+            return tp_fail_line(B, s->fixed_line, "fixed point (%g, %g) is vertex %s, a corner of "
+                                "face %d and face %d: it must be inside one face",
+                                s->fixed_point[0], s->fixed_point[1], s->vertices[vx].name, root + 1,
+                                other + 1);
+    }
     t->root = root;
     t->order = malloc(sizeof(int) * (size_t)(nf ? nf : 1));
     if (!t->order) return tp_nomem(B);
