@@ -153,6 +153,12 @@ static int read_edges(rd *r, sf_cpattern *cp)
         json_t *a = json_array_get(e, 0), *b = json_array_get(e, 1);
         if (!json_is_array(e) || json_array_size(e) != 2 || !json_is_integer(a) || !json_is_integer(b))
             return BAD("%s: %s[%zu]: expected two vertex indices [v1, v2]", r->path, fld(r, f, sizeof f, "edges_vertices"), i);
+        for (int k = 0; k < 2; k++) {
+            json_int_t x = json_integer_value(k ? b : a);
+            if (x < 0 || x >= cp->nv)
+                return BAD("%s: %s[%zu]: vertex %lld does not exist (vertices_coords has %d)", r->path,
+                           fld(r, f, sizeof f, "edges_vertices"), i, (long long)x, cp->nv);
+        }
         json_t *s = json_array_get(ea, i);
         const char *as = json_is_string(s) ? json_string_value(s) : "";
         if (strcmp(as, "C") == 0 || strcmp(as, "J") == 0)
@@ -209,8 +215,9 @@ static int read_faces(rd *r, sf_cpattern *cp)
         size_t j;
         json_t *v;
         json_array_foreach(face, j, v) {
-            if (!json_is_integer(v))
-                return BAD("%s: %s[%zu][%zu]: not a vertex index", r->path, fld(r, f, sizeof f, "faces_vertices"), i, j);
+            if (!json_is_integer(v) || json_integer_value(v) < 0 || json_integer_value(v) >= cp->nv)
+                return BAD("%s: %s[%zu][%zu]: not the index of a vertex (vertices_coords has %d)", r->path,
+                           fld(r, f, sizeof f, "faces_vertices"), i, j, cp->nv);
             cp->face_verts[k++] = (int)json_integer_value(v);
         }
     }
