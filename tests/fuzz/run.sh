@@ -21,9 +21,9 @@ mkdir -p "$work/corpus" "$work/seeds" "$work/obj"
 [ -n "$keep" ] || trap 'rm -rf "$work"' EXIT
 # the library sources the target reaches (globs: new files are picked up)
 inc="-I$src/src -I$src/src/pattern -I$src/src/model -I$src/src/analysis -I$src/src/io"
-flags="-std=c11 -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -g -O1 -fsanitize=fuzzer-no-link,address,undefined $(pkg-config --cflags libconfig 2>/dev/null)"
+flags="-std=c11 -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -g -O1 -fsanitize=fuzzer-no-link,address,undefined $(pkg-config --cflags libconfig jansson 2>/dev/null)"
 objs=""
-for c in "$src"/src/sf_error.c "$src"/src/pattern/*.c "$src"/src/model/*.c; do
+for c in "$src"/src/sf_error.c "$src"/src/pattern/*.c "$src"/src/model/*.c "$src"/src/io/outbuf.c; do
     o="$work/obj/$(basename "$c" .c).o"
     if ! clang $flags $inc -c "$c" -o "$o" 2>"$work/build.log"; then
         echo "not ok 1 - fuzz: cannot compile $c"; sed 's/^/#   /' "$work/build.log" | head -20; exit 0
@@ -31,7 +31,8 @@ for c in "$src"/src/sf_error.c "$src"/src/pattern/*.c "$src"/src/model/*.c; do
     objs="$objs $o"
 done
 if ! clang $flags -fsanitize=fuzzer,address,undefined $inc "$src/tests/fuzz/fuzz_study.c" $objs \
-        $(pkg-config --libs libconfig 2>/dev/null || echo -lconfig) -llapack -lblas -lm \
+        $(pkg-config --libs libconfig 2>/dev/null || echo -lconfig) \
+        $(pkg-config --libs jansson 2>/dev/null || echo -ljansson) -llapack -lblas -lm \
         -o "$work/fuzz_study" 2>"$work/build.log"; then
     if grep -q "libclang_rt.fuzzer\|fuzzer.*not found\|cannot find.*fuzzer" "$work/build.log"; then
         echo "ok 1 # SKIP clang has no libFuzzer runtime"; exit 0
