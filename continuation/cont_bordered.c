@@ -137,6 +137,22 @@ sunindextype ci_jy_nnz(const cont_solver *s)
     return (sunindextype)s->n * s->n;
 }
 
+/* Jy added into the leading n x n block of the column-major array A
+ * (leading dimension ld), which the caller has zeroed. */
+void ci_jy_dense(const cont_solver *s, double *A, long ld)
+{
+    long n = s->n;
+    if (s->prob.jac_matrix == CONT_MATRIX_SPARSE) {
+        const sunindextype *ptr = SM_INDEXPTRS_S(s->Jy), *idx = SM_INDEXVALS_S(s->Jy);
+        const double *val = SM_DATA_S(s->Jy);
+        for (long j = 0; j < n; j++)
+            for (sunindextype k = ptr[j]; k < ptr[j + 1]; k++) A[j * ld + idx[k]] += val[k];
+    } else {
+        for (long j = 0; j < n; j++)
+            memcpy(A + j * ld, SM_COLUMN_D(s->Jy, j), (size_t)n * sizeof(double));
+    }
+}
+
 /* Column j of Jy into CSC arrays bi, bx from position k (a dense Jy: all n
  * entries); returns the position after it.  Adds the squares of the
  * entries to *norm2 unless norm2 is NULL. */
@@ -195,20 +211,9 @@ static int bm_pattern_check(cont_bmat *bm)
 int ci_bm_build(cont_solver *s, cont_bmat *bm, const double *c)
 {
     long n = s->n, m = n + 1;
-    int jsp = s->prob.jac_matrix == CONT_MATRIX_SPARSE;
     if (!bm->sparse) {
         SUNMatZero(bm->A);
-        if (jsp) {
-            sunindextype *ptr = SM_INDEXPTRS_S(s->Jy), *idx = SM_INDEXVALS_S(s->Jy);
-            double *val = SM_DATA_S(s->Jy);
-            for (long j = 0; j < n; j++) {
-                double *col = SM_COLUMN_D(bm->A, j);
-                for (sunindextype k = ptr[j]; k < ptr[j + 1]; k++) col[idx[k]] += val[k];
-            }
-        } else {
-            for (long j = 0; j < n; j++)
-                memcpy(SM_COLUMN_D(bm->A, j), SM_COLUMN_D(s->Jy, j), (size_t)n * sizeof(double));
-        }
+        ci_jy_dense(s, SM_DATA_D(bm->A), m);
         for (long j = 0; j < n; j++) SM_ELEMENT_D(bm->A, n, j) = c[j];
         double *col = SM_COLUMN_D(bm->A, n);
         memcpy(col, s->Fp, (size_t)n * sizeof(double));

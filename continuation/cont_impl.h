@@ -158,6 +158,7 @@ int ci_bm_solve(cont_solver *s, cont_bmat *bm, N_Vector x, N_Vector b);
 int ci_call_jacobian(cont_solver *s, const double *y, double p);
 int ci_call_residual(cont_solver *s, const double *y, double p, double *F);
 sunindextype ci_jy_nnz(const cont_solver *s);
+void ci_jy_dense(const cont_solver *s, double *A, long ld);
 sunindextype ci_jy_column(const cont_solver *s, long j, sunindextype *bi, double *bx,
                           sunindextype k, double *norm2);
 

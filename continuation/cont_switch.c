@@ -27,15 +27,7 @@ static int branch_dense(cont_solver *s, const double *t1s, const double *t1w, do
         free(A); free(S); free(VT);
         return ci_fail(s, CONT_ENOMEM, "out of memory");
     }
-    if (s->prob.jac_matrix == CONT_MATRIX_SPARSE) {
-        sunindextype *ptr = SM_INDEXPTRS_S(s->Jy), *idx = SM_INDEXVALS_S(s->Jy);
-        double *val = SM_DATA_S(s->Jy);
-        for (long j = 0; j < n; j++)
-            for (sunindextype k = ptr[j]; k < ptr[j + 1]; k++) A[j * n + idx[k]] += val[k];
-    } else {
-        for (long j = 0; j < n; j++)
-            memcpy(A + j * n, SM_COLUMN_D(s->Jy, j), (size_t)n * sizeof(double));
-    }
+    ci_jy_dense(s, A, n);
     for (long i = 0; i < n; i++) A[n * n + i] = s->Fp[i] / s->theta;
     dgesvd_("N", "A", &in, &im, A, &in, S, &udummy, &one, VT, &im, &wq, &lwork, &info);
     lwork = info == 0 ? (int)wq + 1 : 5 * im + 10;

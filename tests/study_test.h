@@ -1,5 +1,6 @@
 /* study_test.h - paths, checks and helpers shared by the study reader's
- * tests (test_study.c, test_study_set.c).  Include after cmocka.h.
+ * tests (test_study.c, test_study_set.c; test_topology.c takes CHECK_EQ_I).
+ * Include after cmocka.h.
  * Files are found through $SF_SRCDIR (set by `make check`), else the source
  * directory compiled in.  Temporary files go to $SF_BUILDDIR or /tmp. */
 #ifndef SF_STUDY_TEST_H

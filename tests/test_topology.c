@@ -20,17 +20,10 @@
 
 #define PI_ 3.14159265358979323846
 
-#define CHECK_INT(got, want, what)                                              \
-    do {                                                                        \
-        long g_ = (long)(got), w_ = (long)(want);                               \
-        if (g_ != w_) {                                                         \
-            print_error("%s: expected %ld, got %ld\n", what, w_, g_);           \
-            fail();                                                             \
-        }                                                                       \
-    } while (0)
 
 #define SF_TEST_SEED 2024u
-#include "sf_test.h"   /* CHECK_CLOSE, urand */
+#include "sf_test.h"    /* CHECK_CLOSE, urand */
+#include "study_test.h" /* CHECK_EQ_I */
 #include "topo_pat.h"
 
 /* ------------------------------------------------------------ invariants */
@@ -52,7 +45,7 @@ static void check_invariants(const pat *P, const sf_topology *t)
 {
     const sf_study *s = &P->s;
     char what[256];
-    CHECK_INT(t->nfolds, s->nfolds, "number of folds");
+    CHECK_EQ_I(t->nfolds, s->nfolds, "number of folds");
     double tol = 1e-9 * t->size;
 
     /* faces: ccw polygons tiling the sheet; bodies inside them */
@@ -268,11 +261,11 @@ static void test_strip3(void **state)
         pat *P = make_strip3(cw);
         sf_topology t;
         build_ok(P, &t);
-        CHECK_INT(t.nfaces, 4, "strip3 faces");
-        CHECK_INT(t.nfolds, 3, "strip3 folds");
-        CHECK_INT(t.nivertices, 0, "strip3 interior vertices");
+        CHECK_EQ_I(t.nfaces, 4, "strip3 faces");
+        CHECK_EQ_I(t.nfolds, 3, "strip3 folds");
+        CHECK_EQ_I(t.nivertices, 0, "strip3 interior vertices");
         /* 4 corners given, 6 fold ends inserted, ccw from c1 (or c4) */
-        CHECK_INT(t.nboundary, 10, "strip3 boundary length");
+        CHECK_EQ_I(t.nboundary, 10, "strip3 boundary length");
         CHECK_CLOSE(t.sheet_area, 0.12 * 0.03, 1e-18, "strip3 sheet area");
         check_invariants(P, &t);
         const double at[2] = {0.01, 0.015};
@@ -311,10 +304,10 @@ static void test_waterbomb2(void **state)
     pat *P = make_waterbomb2();
     sf_topology t;
     build_ok(P, &t);
-    CHECK_INT(t.nfaces, 14, "waterbomb2 faces");
-    CHECK_INT(t.nfolds, 15, "waterbomb2 folds");
-    CHECK_INT(t.nivertices, 2, "waterbomb2 interior vertices");
-    for (int k = 0; k < 2; k++) CHECK_INT(t.ivertices[k].degree, 8, "waterbomb2 degree");
+    CHECK_EQ_I(t.nfaces, 14, "waterbomb2 faces");
+    CHECK_EQ_I(t.nfolds, 15, "waterbomb2 folds");
+    CHECK_EQ_I(t.nivertices, 2, "waterbomb2 interior vertices");
+    for (int k = 0; k < 2; k++) CHECK_EQ_I(t.ivertices[k].degree, 8, "waterbomb2 degree");
     assert_string_equal(P->v[t.ivertices[0].vertex].name, "v7");
     assert_string_equal(P->v[t.ivertices[1].vertex].name, "v8");
     check_invariants(P, &t);
@@ -346,11 +339,11 @@ static void test_square4(void **state)
     pat *P = make_square4(SQ_PLAIN);
     sf_topology t;
     build_ok(P, &t);
-    CHECK_INT(t.nfaces, 21, "square4 faces");
-    CHECK_INT(t.nfolds, 24, "square4 folds");
-    CHECK_INT(t.nivertices, 4, "square4 interior vertices");
-    for (int k = 0; k < 4; k++) CHECK_INT(t.ivertices[k].degree, 7, "square4 degree");
-    CHECK_INT(t.nboundary, 16, "square4 boundary (4 corners + 12 inserted)");
+    CHECK_EQ_I(t.nfaces, 21, "square4 faces");
+    CHECK_EQ_I(t.nfolds, 24, "square4 folds");
+    CHECK_EQ_I(t.nivertices, 4, "square4 interior vertices");
+    for (int k = 0; k < 4; k++) CHECK_EQ_I(t.ivertices[k].degree, 7, "square4 degree");
+    CHECK_EQ_I(t.nboundary, 16, "square4 boundary (4 corners + 12 inserted)");
     check_invariants(P, &t);
     /* root: the central square */
     const sf_face *R = &t.faces[t.root];
@@ -362,7 +355,7 @@ static void test_square4(void **state)
     /* faces in the tree: the 4 middle triangles at depth 1 */
     int d1 = 0;
     for (int f = 0; f < t.nfaces; f++) d1 += t.faces[f].depth == 1;
-    CHECK_INT(d1, 4, "square4 faces next to the root");
+    CHECK_EQ_I(d1, 4, "square4 faces next to the root");
     double w = 0.04;
     double strips = 8 * w * 0.04 + 4 * (w * 0.08 - 0.25 * w * w) + 4 * (2 * w * 0.08 - 0.5 * w * w);
     double want = t.sheet_area - bands_area(P) - vertex_polygons_area(P) - strips;
@@ -378,8 +371,8 @@ static void test_square4_variants(void **state)
         pat *P = make_square4(variant);
         sf_topology t;
         build_ok(P, &t);
-        CHECK_INT(t.nfaces, 21, "square4 variant faces");
-        CHECK_INT(t.nivertices, 4, "square4 variant interior vertices");
+        CHECK_EQ_I(t.nfaces, 21, "square4 variant faces");
+        CHECK_EQ_I(t.nivertices, 4, "square4 variant interior vertices");
         check_invariants(P, &t);
         if (variant == SQ_CORNER) {
             const sf_face *R = &t.faces[t.root];
@@ -397,7 +390,7 @@ static void test_square4_variants(void **state)
         }
         if (variant == SQ_IRREGULAR) {
             /* outline given clockwise: boundary comes out ccw, 16 corners */
-            CHECK_INT(t.nboundary, 16, "square4-irregular boundary");
+            CHECK_EQ_I(t.nboundary, 16, "square4-irregular boundary");
             /* each corner pulled out adds two triangles, base 0.2, height 0.1 */
             CHECK_CLOSE(t.sheet_area, 0.64 + 4 * 2 * (0.5 * 0.2 * 0.1), 1e-15,
                         "square4-irregular sheet area");
@@ -479,9 +472,9 @@ static void test_nonconvex(void **state)
     pat_fixed(P, 0.01, 0.01);
     sf_topology t;
     build_ok(P, &t);
-    CHECK_INT(t.nfaces, 2, "bent fold faces");
-    CHECK_INT(t.nivertices, 1, "bent fold interior vertices");
-    CHECK_INT(t.ivertices[0].degree, 2, "bent fold degree");
+    CHECK_EQ_I(t.nfaces, 2, "bent fold faces");
+    CHECK_EQ_I(t.nivertices, 1, "bent fold interior vertices");
+    CHECK_EQ_I(t.ivertices[0].degree, 2, "bent fold degree");
     check_invariants(P, &t);
     /* area budget: at the reflex side the band ends are continued up to the
      * vertex (rectangles w/2 x setback, and the wedge between the two feet);
@@ -636,7 +629,7 @@ static void test_errors_base(void **state)
     pat *P = make_fold1();
     sf_topology t;
     build_ok(P, &t);
-    CHECK_INT(t.nfaces, 2, "fold1 faces");
+    CHECK_EQ_I(t.nfaces, 2, "fold1 faces");
     check_invariants(P, &t);
     sf_topology_free(&t);
     free(P);
