@@ -17,6 +17,13 @@ tests_test_kinematics_SOURCES = tests/test_kinematics.c
 tests_test_kinematics_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_kinematics_LDADD = $(SF_TEST_LIBS)
 
+# a non-finite number is an error where a row is added, never a 0 in a file
+check_PROGRAMS += tests/test_finite
+TESTS += tests/test_finite
+tests_test_finite_SOURCES = tests/test_finite.c
+tests_test_finite_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_finite_LDADD = $(SF_TEST_LIBS)
+
 # broken studies and their messages, through the program
 TESTS += tests/test_bad_input.sh
 EXTRA_DIST += tests/test_bad_input.sh

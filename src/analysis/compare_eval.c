@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "cont.h"
+#include "outbuf.h"
 
 /* The recorded points as a curve: consecutive exact duplicates dropped,
  * each point with its cumulative chord length t in (yscale * y, p) within
@@ -270,6 +271,14 @@ int sf_compare_eval(sf_compare *c, sf_equil *eq, const sf_mpoint *probes,
             for (int row = 0; row < r->nrow; row++) {
                 if (r->method[row] == 'o') continue;
                 double ref = col->scale * r->v[(size_t)row * r->ncol + col->ccol];
+                /* finite numbers only reach compare*.tsv (outbuf.h) */
+                if (sf_need_finite(err, col->comp[row], "computed %s for reference %s line %d (x = %.10g)",
+                                   c->qname[col->q], r->name, r->line[row], r->x[row]) ||
+                    sf_need_finite(err, ref, "value of reference %s column %s line %d", r->name, col->column,
+                                   r->line[row])) {
+                    rc = err->code;
+                    break;
+                }
                 double d = fabs(col->comp[row] - ref);
                 na++;
                 sa += d * d;
@@ -285,11 +294,20 @@ int sf_compare_eval(sf_compare *c, sf_equil *eq, const sf_mpoint *probes,
                 if (col->npts == 1 || e > col->emax) { col->emax = e; col->xmax = r->x[row]; }
                 col->eend = e;
             }
+            if (rc) break;
             col->arms = na ? sqrt(sa / na) : 0.0;
             col->erms = col->npts ? sqrt(se / col->npts) : 0.0;
             double v = col->norm == N_MAX ? col->emax : col->norm == N_RMS ? col->erms : col->eend;
             col->pass = !col->has_tol ? -1 : (col->npts > 0 && v <= col->tol) ? 1 : 0;
+            const double ev[] = {col->emax, col->erms, col->eend, col->amax, col->arms, col->aend};
+            static const char *const en[] = {"max", "rms", "end", "max_abs", "rms_abs", "end_abs"};
+            for (int j = 0; j < 6 && !rc; j++)
+                if (sf_need_finite(err, ev[j], "%s error of %s against reference %s column %s", en[j],
+                                   c->qname[col->q], r->name, col->column))
+                    rc = err->code;
+            if (rc) break;
         }
+        if (rc) break;
     }
     free(vals);
     free(y);

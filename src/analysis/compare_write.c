@@ -15,8 +15,6 @@ static const char *measure_name(int m)
 
 static const char *norm_name(int n) { return n == N_MAX ? "max" : n == N_RMS ? "rms" : "end"; }
 
-static double fin(double v) { return isfinite(v) ? v : 0.0; }
-
 static void write_header(const sf_compare *c, FILE *f, const char *header)
 {
     if (header) fputs(header, f);
@@ -48,8 +46,8 @@ static int fill_summary(void *ctx, void *vf)
             const cmp_col *col = &r->cols[k];
             fprintf(f, "%s\t%s\t%s\t%s\t%d\t%d\t%.6e\t%.6e\t%.6e\t%.10g\t%.6e\t%.6e\t%.6e\t%s\t",
                     r->name, col->column, c->qname[col->q], measure_name(col->measure), col->npts,
-                    r->noutside, fin(col->emax), fin(col->erms), fin(col->eend), fin(col->xmax),
-                    fin(col->amax), fin(col->arms), fin(col->aend), norm_name(col->norm));
+                    r->noutside, col->emax, col->erms, col->eend, col->xmax, col->amax, col->arms, col->aend,
+                    norm_name(col->norm));
             if (col->has_tol) fprintf(f, "%.6g\t%s\n", col->tol, col->pass > 0 ? "ok" : "FAIL");
             else fprintf(f, "-\t-\n");
         }
@@ -83,8 +81,7 @@ static int fill_points(void *ctx, void *vf)
                          : col->measure == M_SCALED ? fabs(d) / col->refmax
                          : (ref != 0.0 && fabs(ref) > 1e-9 * col->refmax) ? fabs(d) / fabs(ref) : 0.0;
                 fprintf(f, "%s\t%s\t%s\t%d\t%.15g\t%.15g\t%.15g\t%.6e\t%.6e\t%s\n", r->name, col->column,
-                        c->qname[col->q], r->line[row], fin(r->x[row]), fin(ref), fin(col->comp[row]),
-                        fin(d), fin(e), m == 'p' ? "point" : m == 's' ? "solved" : "interpolated");
+                        c->qname[col->q], r->line[row], r->x[row], ref, col->comp[row], d, e, m == 'p' ? "point" : m == 's' ? "solved" : "interpolated");
             }
         }
     }

@@ -35,20 +35,29 @@ void sf_reaction_name(const sf_equil *q, int probe, int r, char *buf, size_t siz
     snprintf(buf, size, "row%d", r + 1);
 }
 
-static double fin(double v) { return isfinite(v) ? v : 0.0; }
-
 void sf_reactions_init(sf_reactions *t, int probe)
 {
     memset(t, 0, sizeof *t);
     t->probe = probe;
 }
 
-void sf_reactions_add(sf_reactions *t, const sf_equil *q, long point, const double *y,
-                      double p, double load)
+int sf_reactions_add(sf_reactions *t, const sf_equil *q, long point, const double *y,
+                     double p, double load, sf_error *err)
 {
-    sf_outbuf_printf(&t->rows, "%ld\t%.12g\t%.12g", point, fin(p), fin(load));
-    for (int r = 0; r < q->nsup; r++) sf_outbuf_printf(&t->rows, "\t%.12g", fin(-y[q->nq + q->nloop + r]) + 0.0);
+    char name[64];
+    if (sf_need_finite(err, p, "p at reactions.tsv point %ld", point) ||
+        sf_need_finite(err, load, "load at reactions.tsv point %ld (p = %.10g)", point, p))
+        return err->code;
+    for (int r = 0; r < q->nsup; r++) {
+        if (isfinite(y[q->nq + q->nloop + r])) continue;
+        sf_reaction_name(q, t->probe, r, name, sizeof name);
+        return sf_need_finite(err, y[q->nq + q->nloop + r], "reaction %s at point %ld (p = %.10g)",
+                              name, point, p);
+    }
+    sf_outbuf_printf(&t->rows, "%ld\t%.12g\t%.12g", point, p, load);
+    for (int r = 0; r < q->nsup; r++) sf_outbuf_printf(&t->rows, "\t%.12g", -y[q->nq + q->nloop + r] + 0.0);
     sf_outbuf_printf(&t->rows, "\n");
+    return SF_OK;
 }
 
 typedef struct fill_ctx {

@@ -32,9 +32,10 @@ typedef struct sf_reactions {
 } sf_reactions;
 
 void sf_reactions_init(sf_reactions *t, int probe);
-/* Append the row of a solved point. */
-void sf_reactions_add(sf_reactions *t, const sf_equil *q, long point, const double *y,
-                      double p, double load);
+/* Append the row of a solved point.  A non-finite value appends nothing
+ * and returns SF_ENUMERIC naming the reaction and the point (err). */
+int sf_reactions_add(sf_reactions *t, const sf_equil *q, long point, const double *y,
+                     double p, double load, sf_error *err);
 /* Write path (atomically): the comment lines in header (may be NULL), a
  * units line, the column names, the rows. */
 int sf_reactions_write(const sf_reactions *t, const sf_equil *q, const char *path,

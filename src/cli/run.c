@@ -34,9 +34,6 @@
 #define PACKAGE_VERSION "0.1.0"
 #endif
 
-/* Finite numbers only: a non-finite value never reaches an output file. */
-static double fin(double v) { return isfinite(v) ? v : 0.0; }
-
 typedef struct run_ctx {
     sf_scene *sc;
     sf_equil eq;
@@ -132,6 +129,46 @@ static void stab_fields(run_ctx *r, sf_outbuf *b)
 
 static int write_point(run_ctx *r, const cont_point *pt);
 
+/* Every number of the point's rows is finite, checked before any of them is
+ * written (outbuf.h, sf_need_finite); else SF_ENUMERIC naming the quantity,
+ * the row and p, and the run stops with the rows before it. */
+static int check_point(run_ctx *r, const cont_point *pt, double sarc, double load, const double e[3])
+{
+    sf_error *err = r->err;
+    const sf_model *m = r->eq.m;
+    const sf_study *s = m->study;
+    long k = r->npoints;
+    if (sf_need_finite(err, pt->p, "p at row %ld (branch %d)", k, r->bif.branch)) return err->code;
+    const double *v[] = {&sarc, &load, &e[0], &e[1], &e[2], &pt->ds};
+    const char *what[] = {"arclength s", "load", "energy", "residual (rotation)", "residual (translation)",
+                          "step ds"};
+    for (int j = 0; j < 6; j++)
+        if (sf_need_finite(err, *v[j], "%s at row %ld (branch %d, p = %.10g)", what[j], k, r->bif.branch,
+                           pt->p))
+            return err->code;
+    for (int i = 0; i < s->nprobes; i++) {
+        double u[3];
+        probe_disp(r, pt->y, i, u);
+        for (int c = 0; c < 3; c++)
+            if (sf_need_finite(err, u[c], "probe %s u%c at row %ld (branch %d, p = %.10g)",
+                               s->probes[i].name, "xyz"[c], k, r->bif.branch, pt->p))
+                return err->code;
+    }
+    for (int i = 0; i < m->nfolds; i++)
+        if (sf_need_finite(err, pt->y[m->qoff[i]], "fold angle of fold %d at row %ld (branch %d, p = %.10g)",
+                           i + 1, k, r->bif.branch, pt->p))
+            return err->code;
+    for (int j = 0; j < r->eq.n; j++)
+        if (sf_need_finite(err, pt->y[j], "unknown %d of the state at row %ld (branch %d, p = %.10g)", j, k,
+                           r->bif.branch, pt->p))
+            return err->code;
+    if (pt->label[0] && strcmp(pt->label, "EP") != 0 &&
+        sf_need_finite(err, pt->loc_err, "location error of %s at row %ld (branch %d, p = %.10g)", pt->label,
+                       k, r->bif.branch, pt->p))
+        return err->code;
+    return SF_OK;
+}
+
 static int on_point(const cont_point *pt, void *data)
 {
     run_ctx *r = data;
@@ -216,39 +253,42 @@ static int write_point(run_ctx *r, const cont_point *pt)
     }
     sf_outbuf *b = &r->rows;
     double sarc = pt->s + r->s_offset;
-    sf_outbuf_printf(b, "%ld\t%d\t%.12g\t%.12g\t%.12g", r->npoints, r->bif.branch, fin(sarc), fin(pt->p),
-              fin(load));
+    const double e[3] = {Pi, rr, rt};
+    if (check_point(r, pt, sarc, load, e) ||
+        (eq->nsup && sf_reactions_add(&r->reac, eq, r->npoints, pt->y, pt->p, load, r->err))) {
+        r->failed = 1;
+        return 1;
+    }
+    sf_outbuf_printf(b, "%ld\t%d\t%.12g\t%.12g\t%.12g", r->npoints, r->bif.branch, sarc, pt->p, load);
     double u0[3] = {0, 0, 0};
     for (int i = 0; i < s->nprobes; i++) {
         double u[3];
         probe_disp(r, pt->y, i, u);
         if (i == 0) memcpy(u0, u, sizeof u);
-        sf_outbuf_printf(b, "\t%.12g\t%.12g\t%.12g", fin(u[0]), fin(u[1]), fin(u[2]));
+        sf_outbuf_printf(b, "\t%.12g\t%.12g\t%.12g", u[0], u[1], u[2]);
     }
-    sf_outbuf_printf(b, "\t%.12g\t%.3g\t%.3g\t%.3g\t%d", fin(Pi), fin(fmax(rr, rt)), fin(rr), fin(rt),
-              pt->newton_iters);
+    sf_outbuf_printf(b, "\t%.12g\t%.3g\t%.3g\t%.3g\t%d", Pi, fmax(rr, rt), rr, rt, pt->newton_iters);
     stab_fields(r, b);
     sf_outbuf_printf(b, "\t%s", pt->label);
-    for (int i = 0; i < m->nfolds; i++) sf_outbuf_printf(b, "\t%.12g", fin(pt->y[m->qoff[i]]));
+    for (int i = 0; i < m->nfolds; i++) sf_outbuf_printf(b, "\t%.12g", pt->y[m->qoff[i]]);
     sf_outbuf_printf(b, "\n");
-    if (eq->nsup) sf_reactions_add(&r->reac, eq, r->npoints, pt->y, pt->p, load);
     cont_stats last;
     memset(&last, 0, sizeof last);
     if (r->solver) cont_get_stats(r->solver, &last, NULL);
     sf_outbuf_printf(&r->stats, "%ld,%d,%.6g,%.6g,%d,%ld,%ld,%ld,%ld,%.6g\n", r->npoints, r->bif.branch,
-              fin(pt->p), fin(pt->ds), pt->newton_iters, last.nres, last.njac, last.retries,
-              last.nlocate, fin(last.wall));
+              pt->p, pt->ds, pt->newton_iters, last.nres, last.njac, last.retries, last.nlocate,
+              last.wall);
     int special = pt->label[0] && strcmp(pt->label, "EP") != 0;
     if (special) {
         sf_outbuf_printf(&r->special, "%ld\t%d\t%s\t%.12g\t%.12g", r->npoints, r->bif.branch, pt->label,
-                  fin(pt->p), fin(sarc));
+                  pt->p, sarc);
         for (int i = 0; i < s->nprobes; i++) {
             double u[3];
             probe_disp(r, pt->y, i, u);
-            sf_outbuf_printf(&r->special, "\t%.12g\t%.12g\t%.12g", fin(u[0]), fin(u[1]), fin(u[2]));
+            sf_outbuf_printf(&r->special, "\t%.12g\t%.12g\t%.12g", u[0], u[1], u[2]);
         }
         stab_fields(r, &r->special);
-        sf_outbuf_printf(&r->special, "\t%.3g\n", fin(pt->loc_err));
+        sf_outbuf_printf(&r->special, "\t%.3g\n", pt->loc_err);
         if (pt->index >= 0 && pt->loc_err > 1e-6 * (1.0 + fabs(pt->p)))
             branch_note(r, "%s at row %ld (branch %d, p = %.10g) located only to within %.3g in "
                         "arclength: the corrector left the branch while bisecting", pt->label,

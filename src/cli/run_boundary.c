@@ -128,8 +128,22 @@ static int on_curve(const cont_point *pt, void *data)
     sf_equil *eq;
     sf_error e;
     sf_error_clear(&e);
-    if (sf_family_get(&r->fam, w->q, &eq, &e) == SF_OK)
-        for (int i = 0; i < r->nfolds; i++) w->vals[r->nev + i] = pt->y[eq->m->qoff[i]];
+    if (sf_family_get(&r->fam, w->q, &eq, &e) != SF_OK) {
+        r->failed = 1;
+        sf_fail(r->err, e.code, "boundary: fold angles at row %d (q = %g): %s", r->nrows - 1, w->q, e.msg);
+        return 1;
+    }
+    for (int i = 0; i < r->nfolds; i++) w->vals[r->nev + i] = pt->y[eq->m->qoff[i]];
+    /* the row's numbers finite (outbuf.h): else stop, nothing is written */
+    int bad = sf_need_finite(r->err, w->q, "second parameter at boundary row %d", r->nrows - 1) ||
+              sf_need_finite(r->err, w->p, "p at boundary row %d (q = %g)", r->nrows - 1, w->q);
+    for (int i = 0; i < r->nfolds && !bad; i++)
+        bad = sf_need_finite(r->err, w->vals[r->nev + i], "fold angle of fold %d at boundary row %d (q = %g)",
+                             i + 1, r->nrows - 1, w->q);
+    if (bad) {
+        r->failed = 1;
+        return 1;
+    }
     /* the path parameter far outside the study's range: stop */
     return !(w->p >= r->plo && w->p <= r->phi);
 }
@@ -244,8 +258,6 @@ static int follow(bnd_ctx *r, double smin, double smax, double step, double min_
     return r->failed || rc != CONT_OK ? r->err->code : SF_OK;
 }
 
-static double fin(double v) { return isfinite(v) ? v : 0.0; }
-
 static int write_boundary(bnd_ctx *r, const char *dir, double pstart)
 {
     const sf_study *s = &r->sc->study;
@@ -283,7 +295,7 @@ static int write_boundary(bnd_ctx *r, const char *dir, double pstart)
             if (i < w->neig && isfinite(w->vals[i])) sf_outbuf_printf(&o, "%.10g", w->vals[i]);
         }
         sf_outbuf_printf(&o, "\t%s", w->label);
-        for (int i = 0; i < r->nfolds; i++) sf_outbuf_printf(&o, "\t%.15g", fin(w->vals[r->nev + i]));
+        for (int i = 0; i < r->nfolds; i++) sf_outbuf_printf(&o, "\t%.15g", w->vals[r->nev + i]);
         sf_outbuf_printf(&o, "\n");
     }
     char path[1200];

@@ -24,8 +24,6 @@
 #define PACKAGE_VERSION "0.1.0"
 #endif
 
-static double fin(double v) { return isfinite(v) ? v : 0.0; }
-
 static double now(void)
 {
     struct timespec ts;
@@ -56,23 +54,42 @@ static int record(traj_ctx *r)
     double Pi, T, drift, speed;
     sf_dyn_report(d, &Pi, &T, &drift, &speed);
     if (drift > r->max_drift) r->max_drift = drift;
-    sf_outbuf_printf(&r->rows, "%ld\t%.12g\t%.12g\t%.12g", d->stats.steps, fin(d->t), fin(d->p),
-              fin(d->load));
+    const sf_dyn_stats *st = &d->stats;
     sf_kin_eval(m, d->y, 0, &d->eq.k);
+    /* every number of the row finite before any of it is written */
+    sf_error *err = r->err;
+    const double v[] = {d->t, d->p, d->load, Pi, T, drift, speed, st->h};
+    const char *what[] = {"time t", "p", "load", "energy", "kinetic energy", "energy drift", "speed",
+                          "step size h"};
+    for (int j = 0; j < 8; j++)
+        if (sf_need_finite(err, v[j], "%s at trajectory step %ld (t = %.10g)", what[j], st->steps, d->t))
+            return err->code;
+    for (int i = 0; i < s->nprobes; i++) {
+        double x[3];
+        sf_point_eval(m, &d->eq.k, &r->probes[i], x, NULL);
+        for (int c = 0; c < 3; c++)
+            if (sf_need_finite(err, x[c], "probe %s u%c at trajectory step %ld (t = %.10g)", s->probes[i].name,
+                               "xyz"[c], st->steps, d->t))
+                return err->code;
+    }
+    for (int i = 0; i < m->nfolds; i++)
+        if (sf_need_finite(err, d->y[m->qoff[i]], "fold angle of fold %d at trajectory step %ld (t = %.10g)",
+                           i + 1, st->steps, d->t))
+            return err->code;
+    sf_outbuf_printf(&r->rows, "%ld\t%.12g\t%.12g\t%.12g", st->steps, d->t, d->p, d->load);
     double uz0 = 0.0;
     for (int i = 0; i < s->nprobes; i++) {
         double x[3];
         sf_point_eval(m, &d->eq.k, &r->probes[i], x, NULL);
         double u[3] = {x[0] - r->probes[i].X[0], x[1] - r->probes[i].X[1], x[2]};
         if (i == 0) uz0 = u[2];
-        sf_outbuf_printf(&r->rows, "\t%.12g\t%.12g\t%.12g", fin(u[0]), fin(u[1]), fin(u[2]));
+        sf_outbuf_printf(&r->rows, "\t%.12g\t%.12g\t%.12g", u[0], u[1], u[2]);
     }
-    sf_outbuf_printf(&r->rows, "\t%.12g\t%.12g\t%.3g\t%.6g", fin(Pi), fin(T), fin(drift), fin(speed));
-    for (int i = 0; i < m->nfolds; i++) sf_outbuf_printf(&r->rows, "\t%.12g", fin(d->y[m->qoff[i]]));
+    sf_outbuf_printf(&r->rows, "\t%.12g\t%.12g\t%.3g\t%.6g", Pi, T, drift, speed);
+    for (int i = 0; i < m->nfolds; i++) sf_outbuf_printf(&r->rows, "\t%.12g", d->y[m->qoff[i]]);
     sf_outbuf_printf(&r->rows, "\n");
-    const sf_dyn_stats *st = &d->stats;
-    sf_outbuf_printf(&r->stats, "%ld,%.9g,%.6g,%d,%ld,%ld,%ld,%ld,%ld,%.6g\n", st->steps, fin(d->t),
-              fin(st->h), st->order, st->nres + st->nchecks, st->njac, st->nni, st->netf, st->ncfn, fin(st->wall));
+    sf_outbuf_printf(&r->stats, "%ld,%.9g,%.6g,%d,%ld,%ld,%ld,%ld,%ld,%.6g\n", st->steps, d->t, st->h,
+              st->order, st->nres + st->nchecks, st->njac, st->nni, st->netf, st->ncfn, st->wall);
     /* shapes at k duration / N, k = 0..N, each at the first step at or
      * past its time, and the last state */
     double due = r->nshapes > 0 ? d->duration * r->ishape / r->nshapes : INFINITY;

@@ -2,11 +2,23 @@
 #include "outbuf.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+
+int sf_need_finite(sf_error *err, double v, const char *fmt, ...)
+{
+    if (isfinite(v)) return 0;
+    char what[400];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    return sf_fail(err, SF_ENUMERIC, "non-finite %s (%g): not written", what, v);
+}
 
 void sf_outbuf_printf(sf_outbuf *b, const char *fmt, ...)
 {

@@ -20,6 +20,12 @@ void sf_outbuf_printf(sf_outbuf *b, const char *fmt, ...) __attribute__((format(
 int sf_outbuf_fill(void *ctx, void *f);
 void sf_outbuf_free(sf_outbuf *b);
 
+/* Finite values only reach an output file (never a NaN, never a NaN
+ * replaced by 0).  Returns 0 when v is finite; else records SF_ENUMERIC
+ * with the one line "non-finite WHAT (nan): not written", WHAT being fmt
+ * formatted (the quantity and where: point, p, index), and returns it. */
+int sf_need_finite(sf_error *err, double v, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
 /* Create directory d and its parents (existing ones are fine). */
 int sf_mkdir_p(const char *d, sf_error *err);
 

@@ -61,10 +61,26 @@ typedef struct shape_ctx {
     int nfields;
     const char *const *fname;
     const double *fval;
+    const char *path;
+    sf_error *err;
 } shape_ctx;
 
-/* Finite value for the file: NaN never reaches an output. */
-static double fin(double v) { return isfinite(v) ? v : 0.0; }
+/* The shape's computed numbers finite, checked before they are written:
+ * else SF_ENUMERIC naming the quantity (the .tmp file is then removed). */
+static int shape_finite(shape_ctx *c, const double *X, const double *U, long npts)
+{
+    const sf_model *m = c->m;
+    for (long j = 0; j < 3 * npts; j++)
+        if (!isfinite(X[j]) || !isfinite(U[j]))
+            return sf_fail(c->err, SF_ENUMERIC, "%s: non-finite %s of shape point %ld: not written", c->path,
+                           isfinite(X[j]) ? "displacement" : "position", j / 3);
+    for (int i = 0; i < m->nfolds; i++)
+        for (int s = 0; s < c->samples; s++)
+            if (!isfinite(sf_section_kappa(&m->sec[i], c->q + m->qoff[i], (s + 0.5) / c->samples)))
+                return sf_fail(c->err, SF_ENUMERIC, "%s: non-finite curvature of fold %d at sample %d: "
+                               "not written", c->path, i + 1, s);
+    return SF_OK;
+}
 
 static int fill_shape(void *vctx, void *vf)
 {
@@ -123,14 +139,18 @@ static int fill_shape(void *vctx, void *vf)
             }
         }
     }
+    if (shape_finite(c, X, U, npts)) {
+        free(X);
+        free(U);
+        return SF_ENUMERIC;
+    }
     fprintf(f, "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n");
-    for (long j = 0; j < npts; j++)
-        fprintf(f, "%.10g %.10g %.10g\n", fin(X[3 * j]), fin(X[3 * j + 1]), fin(X[3 * j + 2]));
+    for (long j = 0; j < npts; j++) fprintf(f, "%.10g %.10g %.10g\n", X[3 * j], X[3 * j + 1], X[3 * j + 2]);
     fprintf(f, "</DataArray>\n</Points>\n");
     fprintf(f, "<PointData Vectors=\"displacement\">\n<DataArray type=\"Float64\" "
                "Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">\n");
     for (long j = 0; j < npts; j++)
-        fprintf(f, "%.10g %.10g %.10g\n", fin(U[3 * j]), fin(U[3 * j + 1]), fin(U[3 * j + 2]));
+        fprintf(f, "%.10g %.10g %.10g\n", U[3 * j], U[3 * j + 1], U[3 * j + 2]);
     fprintf(f, "</DataArray>\n</PointData>\n");
     free(X);
     free(U);
@@ -149,14 +169,13 @@ static int fill_shape(void *vctx, void *vf)
     for (int i = 0; i < t->nfaces; i++)
         if (t->faces[i].body.n >= 3) fprintf(f, "0\n");
     for (int i = 0; i < m->nfolds; i++)
-        for (int s = 0; s < ns; s++) fprintf(f, "%.10g\n", fin(c->q[m->qoff[i]]));
+        for (int s = 0; s < ns; s++) fprintf(f, "%.10g\n", c->q[m->qoff[i]]);
     fprintf(f, "</DataArray>\n<DataArray type=\"Float64\" Name=\"curvature\" format=\"ascii\">\n");
     for (int i = 0; i < t->nfaces; i++)
         if (t->faces[i].body.n >= 3) fprintf(f, "0\n");
     for (int i = 0; i < m->nfolds; i++)
         for (int s = 0; s < ns; s++)
-            fprintf(f, "%.10g\n",
-                    fin(sf_section_kappa(&m->sec[i], c->q + m->qoff[i], (s + 0.5) / ns)));
+            fprintf(f, "%.10g\n", sf_section_kappa(&m->sec[i], c->q + m->qoff[i], (s + 0.5) / ns));
     fprintf(f, "</DataArray>\n</CellData>\n");
     /* polygons */
     fprintf(f, "<Polys>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
@@ -199,7 +218,7 @@ int sf_vtk_write_shape_fields(const sf_model *m, const double *q, int samples,
                               const char *path, int nfields, const char *const *names,
                               const double *values, sf_error *err)
 {
-    shape_ctx c = {m, q, samples < 1 ? 1 : samples, {0}, nfields, names, values};
+    shape_ctx c = {m, q, samples < 1 ? 1 : samples, {0}, nfields, names, values, path, err};
     for (int i = 0; i < nfields; i++)
         if (!isfinite(values[i]))
             return sf_fail(err, SF_ENUMERIC, "%s: field %s is not finite", path, names[i]);
@@ -227,6 +246,8 @@ void sf_pvd_init(sf_pvd *p, const char *path)
 
 int sf_pvd_add(sf_pvd *p, double time, const char *file, sf_error *err)
 {
+    if (!isfinite(time))
+        return sf_fail(err, SF_ENUMERIC, "%s: non-finite time (%g) of %s: not written", p->path, time, file);
     if (p->n == p->cap) {
         int cap = p->cap ? 2 * p->cap : 16;
         double *t = realloc(p->time, sizeof(double) * cap);
@@ -249,7 +270,7 @@ static int fill_pvd(void *ctx, void *vf)
     FILE *f = vf;
     fprintf(f, "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n");
     for (int i = 0; i < p->n; i++)
-        fprintf(f, "<DataSet timestep=\"%.10g\" part=\"0\" file=\"%s\"/>\n", fin(p->time[i]), p->file[i]);
+        fprintf(f, "<DataSet timestep=\"%.10g\" part=\"0\" file=\"%s\"/>\n", p->time[i], p->file[i]);
     fprintf(f, "</Collection>\n</VTKFile>\n");
     return ferror(f) ? SF_EIO : SF_OK;
 }
