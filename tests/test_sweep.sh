@@ -96,7 +96,7 @@ interrupt() {
     $1 "$bin" sweep "$src/studies/square4.cfg" $long -q -o "$2" >"$2.log" 2>&1 &
     pid=$!
     i=0
-    while [ $i -lt 400 ]; do
+    while [ $i -lt 1500 ]; do   # up to 30 s: mpirun starts slowly on a loaded machine
         n=$(rows "$2/sweep.tsv" 2>/dev/null | wc -l)
         [ "$n" -ge 3 ] && break
         sleep 0.02; i=$((i + 1))
@@ -138,8 +138,14 @@ if [ -z "$mpi" ]; then
 else
     st=$(interrupt "$mpi" "$tmp/mkill")
     k=$(complete "$tmp/mkill/sweep.tsv")
-    sleep 0.3
-    left=$(pids "$tmp/mkill" | wc -l)
+    # the ranks stop their variants on SIGTERM; on a loaded machine those
+    # may take a moment to exit: wait up to 10 s for them to be gone
+    i=0
+    while [ $i -lt 100 ]; do
+        left=$(pids "$tmp/mkill" | wc -l)
+        [ "$left" = 0 ] && break
+        sleep 0.1; i=$((i + 1))
+    done
     k2=$(complete "$tmp/mkill/sweep.tsv")   # nothing recorded after the stop
     $mpi "$bin" sweep "$src/studies/square4.cfg" $long -q -o "$tmp/mkill" >"$tmp/log6" 2>&1
     untimed "$tmp/mkill/sweep.tsv" >"$tmp/a"
@@ -184,13 +190,17 @@ v=$(rows "$tmp/range/sweep.tsv" | cut -f2 | tr '\n' ' ')
 
 # 10: a variant that crashes (SIGSEGV sent to its process) is a row with
 # status 139 and "killed by signal 11", and the sweep goes on
+# (short steps make each variant live about a second, so the signal
+# reaches a running process, not one already on its way out)
 "$bin" sweep "$src/studies/square4.cfg" --vary defaults.width=0.004:0.008:6 --set output.shapes=0 -q \
+    --set analysis.step=0.004 --set analysis.max_step=0.004 --set analysis.max_steps=100000 \
     -o "$tmp/crash" >"$tmp/log10" 2>&1 &
 pid=$!
 i=0
-while [ $i -lt 500 ]; do
+# poll without sleeping, and try again if the one found has just finished
+while [ $i -lt 5000 ] && kill -0 $pid 2>/dev/null; do
     c=$(pids "$tmp/crash" | head -1)
-    [ -n "$c" ] && { kill -SEGV "$c"; break; }
+    [ -n "$c" ] && kill -SEGV "$c" 2>/dev/null && break
     i=$((i + 1))
 done
 wait $pid; st=$?
