@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "check_test.h"
 #include "scene.h"
 
 /* Fails with what was expected, what came, and the tolerance. */

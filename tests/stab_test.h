@@ -7,17 +7,9 @@
 
 #include <math.h>
 
+#include "check_test.h"
 #include "equilibrium.h"
 #include "stability.h"
-
-#define CHECK_OK(rc, err)                                                      \
-    do {                                                                       \
-        int rc_ = (rc);                                                        \
-        if (rc_ != SF_OK) {                                                    \
-            print_error("expected SF_OK, got %d: %s\n", rc_, (err).msg);        \
-            fail();                                                            \
-        }                                                                      \
-    } while (0)
 
 /* ---- the one-fold closed forms (K = 0, G1) --------------------------- */
 

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "study.h"
+#include "check_test.h"
 
 #ifndef SF_SRCDIR
 #define SF_SRCDIR "."
@@ -48,22 +49,6 @@ static inline void tmp_path(char *buf, size_t n, const char *name)
         long g_ = (long)(got), w_ = (long)(want);                              \
         if (g_ != w_) {                                                        \
             print_error("%s: expected %ld, got %ld\n", what, w_, g_);          \
-            fail();                                                            \
-        }                                                                      \
-    } while (0)
-
-#define CHECK_OK(rc, err)                                                      \
-    do {                                                                       \
-        if ((rc) != SF_OK) {                                                   \
-            print_error("expected SF_OK, got %d: %s\n", (rc), (err).msg);       \
-            fail();                                                            \
-        }                                                                      \
-    } while (0)
-
-#define CHECK_CONTAINS(msg, sub)                                               \
-    do {                                                                       \
-        if (!strstr((msg), (sub))) {                                           \
-            print_error("expected a message containing '%s', got '%s'\n", (sub), (msg)); \
             fail();                                                            \
         }                                                                      \
     } while (0)

@@ -25,19 +25,11 @@
 #include "generators.h"
 #include "study.h"
 #include "topology.h"
+#include "check_test.h"
 
 #ifndef SF_SRCDIR
 #define SF_SRCDIR "."
 #endif
-
-#define CHECK_OK(call, err)                                                    \
-    do {                                                                       \
-        int rc_ = (call);                                                      \
-        if (rc_ != SF_OK) {                                                    \
-            print_error("expected SF_OK, got %d: %s\n", rc_, (err).msg);       \
-            fail();                                                            \
-        }                                                                      \
-    } while (0)
 
 static void src_path(char *buf, size_t n, const char *rel)
 {

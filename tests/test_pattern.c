@@ -19,23 +19,6 @@
 #include "generators.h"
 #include "sf_test.h"
 
-#define CHECK_OK(call, err)                                                    \
-    do {                                                                       \
-        int rc_ = (call);                                                      \
-        if (rc_ != SF_OK) {                                                    \
-            print_error("expected SF_OK, got %d: %s\n", rc_, (err).msg);       \
-            fail();                                                            \
-        }                                                                      \
-    } while (0)
-
-#define CHECK_CONTAINS(msg, sub)                                               \
-    do {                                                                       \
-        if (!strstr((msg), (sub))) {                                           \
-            print_error("expected a message containing '%s', got '%s'\n", (sub), (msg)); \
-            fail();                                                            \
-        }                                                                      \
-    } while (0)
-
 typedef struct vstat { int deg, nm, nv, nb; double ang[16]; } vstat;
 
 static int dcmp(const void *a, const void *b)
