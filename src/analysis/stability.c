@@ -182,6 +182,23 @@ static void dense_to_csc(const double *A, int nrow, int ncol, int lower, int *cp
     cp[ncol] = t;
 }
 
+/* The sparse solver's verdict as this point's result. */
+static void take_sparse_result(sf_stab_result *R, const sf_sstab_result *S)
+{
+    R->method = SF_EIG_ARPACK;
+    R->rank = S->rank;
+    R->dim = S->dim;
+    R->morse = S->morse < 0 ? 0 : S->morse;
+    R->stable = S->stable;
+    R->neig = S->neig;
+    memcpy(R->eig, S->eig, sizeof(double) * (size_t)S->neig);
+    R->iters = S->iters;
+    R->nop = S->nop;
+    R->status = S->status;
+    R->attempts = S->attempts;
+    snprintf(R->reason, sizeof R->reason, "%s", S->reason);
+}
+
 /* ARPACK in shift-invert on the MUMPS factors of the KKT matrix (sstab.h).
  * Returns -1 when the tangent space is too small for ARPACK (the caller
  * goes dense). */
@@ -211,18 +228,7 @@ static int eval_arpack(sf_stab *st, sf_error *err)
      * flat state): the dense method (SVD) decides */
     if (S->neig == 0 && S->dim > 0 && S->dim < st->nev + 3) return -1;
     if (S->status == SF_SSTAB_UNKNOWN && S->morse < 0) return -1;
-    R->method = SF_EIG_ARPACK;
-    R->rank = S->rank;
-    R->dim = S->dim;
-    R->morse = S->morse < 0 ? 0 : S->morse;
-    R->stable = S->stable;
-    R->neig = S->neig;
-    memcpy(R->eig, S->eig, sizeof(double) * (size_t)S->neig);
-    R->iters = S->iters;
-    R->nop = S->nop;
-    R->status = S->status;
-    R->attempts = S->attempts;
-    snprintf(R->reason, sizeof R->reason, "%s", S->reason);
+    take_sparse_result(R, S);
     return SF_OK;
 }
 
@@ -243,18 +249,7 @@ static int eval_sparse_kkt(sf_stab *st, sf_equil *q, const double *y, double p, 
     }
     if ((rc = sf_sstab_eval(st->sp, &H, st->ncon > 0 ? &C : NULL, err))) return rc;
     const sf_sstab_result *S = sf_sstab_get(st->sp);
-    R->method = SF_EIG_ARPACK;
-    R->rank = S->rank;
-    R->dim = S->dim;
-    R->morse = S->morse < 0 ? 0 : S->morse;
-    R->stable = S->stable;
-    R->neig = S->neig;
-    memcpy(R->eig, S->eig, sizeof(double) * (size_t)S->neig);
-    R->iters = S->iters;
-    R->nop = S->nop;
-    R->status = S->status;
-    R->attempts = S->attempts;
-    snprintf(R->reason, sizeof R->reason, "%s", S->reason);
+    take_sparse_result(R, S);
     if (S->neig == 0 && S->dim > 0 && R->reason[0] == '\0')
         snprintf(R->reason, sizeof R->reason, "tangent space of dimension %d too small for "
                  "ARPACK (%d eigenvalues wanted)", S->dim, st->nev);
