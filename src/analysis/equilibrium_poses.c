@@ -31,6 +31,30 @@ struct sf_peq {
 
 /* ------------------------------------------------------------ assembly */
 
+/* The local Hessian block z->Hl (nv x nv, over the columns z->col) into
+ * the triplets. */
+static void add_block(struct sf_peq *z, int nv)
+{
+    for (int a = 0; a < nv; a++)
+        for (int b = 0; b < nv; b++) sf_trip_add(&z->T, z->col[a], z->col[b], z->Hl[a * nv + b]);
+}
+
+/* Constraint row `row` with gradient d over the columns z->col and
+ * multiplier lam: lam d into F (J^T lambda), and with jac the row and its
+ * transpose into the triplets. */
+static void add_row(struct sf_peq *z, int row, int nv, const double *d, double lam, double *F, int jac)
+{
+    for (int j = 0; j < nv; j++) {
+        int cj = z->col[j];
+        if (cj < 0) continue;
+        if (F) F[cj] += lam * d[j];
+        if (jac) {
+            sf_trip_add(&z->T, row, cj, d[j]);
+            sf_trip_add(&z->T, cj, row, d[j]);
+        }
+    }
+}
+
 /* One energy term -f . (x - ref) of a point attached to face (and to the
  * band of fold when fold >= 0); gradient into F, df-gradient into Fp,
  * Hessian into the triplets when jac. */
@@ -50,9 +74,7 @@ static double point_term(sf_equil *q, const double *y, int face, int fold, int k
         if (F) F[c] -= f[0] * d[j] + f[1] * d[nv + j] + f[2] * d[2 * nv + j];
         if (Fp) Fp[c] -= df[0] * d[j] + df[1] * d[nv + j] + df[2] * d[2 * nv + j];
     }
-    if (jac)
-        for (int a = 0; a < nv; a++)
-            for (int b = 0; b < nv; b++) sf_trip_add(&z->T, z->col[a], z->col[b], z->Hl[a * nv + b]);
+    if (jac) add_block(z, nv);
     return -(f[0] * (x[0] - ref[0]) + f[1] * (x[1] - ref[1]) + f[2] * (x[2] - ref[2]));
 }
 
@@ -138,21 +160,9 @@ static double assemble(sf_equil *q, const double *y, double p, double *F, int ja
         for (int c = 0; c < 6; c++) {
             int row = nx + 6 * i + c;
             if (F) F[row] = g[c];
-            for (int j = 0; j < nv; j++) {
-                int cj = z->col[j];
-                if (cj < 0) continue;
-                double v = z->dg[c * nv + j];
-                if (F) F[cj] += li[c] * v;
-                if (jac) {
-                    sf_trip_add(&z->T, row, cj, v);
-                    sf_trip_add(&z->T, cj, row, v);
-                }
-            }
+            add_row(z, row, nv, z->dg + c * nv, li[c], F, jac);
         }
-        if (jac)
-            for (int a = 0; a < nv; a++)
-                for (int b = 0; b < nv; b++)
-                    sf_trip_add(&z->T, z->col[a], z->col[b], z->Hl[a * nv + b]);
+        if (jac) add_block(z, nv);
     }
     /* support and prescribed-displacement rows */
     for (int r = 0; r < q->nsup; r++) {
@@ -165,20 +175,8 @@ static double assemble(sf_equil *q, const double *y, double p, double *F, int ja
         double X = c < 2 ? pt->X[c] : 0.0;
         double target = r == q->disp_row ? p : q->rowval[r];
         if (F) F[row] = x[c] - X - target;
-        for (int j = 0; j < nv; j++) {
-            int cj = z->col[j];
-            if (cj < 0) continue;
-            double v = z->dx[c * nv + j];
-            if (F) F[cj] += w[c] * v;
-            if (jac) {
-                sf_trip_add(&z->T, row, cj, v);
-                sf_trip_add(&z->T, cj, row, v);
-            }
-        }
-        if (jac)
-            for (int a = 0; a < nv; a++)
-                for (int b = 0; b < nv; b++)
-                    sf_trip_add(&z->T, z->col[a], z->col[b], z->Hl[a * nv + b]);
+        add_row(z, row, nv, z->dx + c * nv, w[c], F, jac);
+        if (jac) add_block(z, nv);
     }
     if (Fp && q->disp_row >= 0) Fp[nx + q->nloop + q->disp_row] = -1.0;
     if (jac)
