@@ -256,19 +256,26 @@ static void test_miura_rigid_mode(void **state)
     }
 }
 
+/* The generator's pattern NAME of m x n cells with its default options
+ * (returned in o), checked as a crease pattern. */
+static void generate_checked(const char *name, int m, int n, sf_gen_opts *o, sf_cpattern *cp)
+{
+    sf_error e;
+    sf_error_clear(&e);
+    assert_int_equal(sf_gen_defaults(name, o, &e), SF_OK);
+    o->m = m; o->n = n;
+    CHECK_OK(sf_generate(name, o, cp, &e), e);
+    CHECK_OK(sf_cp_check(cp, NULL, &e), e);
+}
+
 static void test_yoshimura(void **state)
 {
     (void)state;
     for (int m = 1; m <= 3; m++)
         for (int n = 1; n <= 3; n++) {
             sf_gen_opts o;
-            sf_error e;
-            sf_error_clear(&e);
-            assert_int_equal(sf_gen_defaults("yoshimura", &o, &e), SF_OK);
-            o.m = m; o.n = n;
             sf_cpattern cp;
-            CHECK_OK(sf_generate("yoshimura", &o, &cp, &e), e);
-            CHECK_OK(sf_cp_check(&cp, NULL, &e), e);
+            generate_checked("yoshimura", m, n, &o, &cp);
             /* interior vertices: (m - 1) on even rows, m on odd rows */
             int want = 0;
             for (int j = 1; j < n; j++) want += j % 2 ? m : m - 1;
@@ -285,13 +292,8 @@ static void test_waterbomb(void **state)
     for (int m = 1; m <= 3; m++)
         for (int n = 1; n <= 3; n++) {
             sf_gen_opts o;
-            sf_error e;
-            sf_error_clear(&e);
-            assert_int_equal(sf_gen_defaults("waterbomb", &o, &e), SF_OK);
-            o.m = m; o.n = n;
             sf_cpattern cp;
-            CHECK_OK(sf_generate("waterbomb", &o, &cp, &e), e);
-            CHECK_OK(sf_cp_check(&cp, NULL, &e), e);
+            generate_checked("waterbomb", m, n, &o, &cp);
             /* one degree-6 base centre per whole base: m per even row,
              * m - 1 inside the shifted odd rows */
             int want = 0;
