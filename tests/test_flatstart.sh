@@ -21,7 +21,7 @@ gen_flat() {   # output, pattern options...
     "$bin" pattern "$@" -o "$out.gen.cfg" 2>/dev/null &&
         sed 's/^\(  { name = "[a-z0-9]*"; rest_angle = \)-\{0,1\}[0-9.]*;/\10.0;/' "$out.gen.cfg" >"$out"
 }
-echo "1..8"
+echo "1..14"
 
 # 1-4: each pattern folds from flat with exact closure to the end of its path
 run_flat() {   # name, study, extra args
@@ -64,7 +64,7 @@ fi
 # 6: the same study, a branch that is not there: one line naming the key
 "$bin" run "$tmp/wa.cfg" --set solver.flat_branch=4 -q -o "$tmp/wa4" >"$tmp/wa4.out" 2>&1
 st=$?
-if [ $st != 0 ] && [ "$(wc -l <"$tmp/wa4.out")" = 1 ] && grep -q 'solver.flat_branch = 4, but the flat state has 1 stable branch' "$tmp/wa4.out"; then
+if [ $st != 0 ] && [ "$(wc -l <"$tmp/wa4.out")" = 1 ] && grep -q 'solver.flat_branch = 4, but the flat state has 2 stable branches' "$tmp/wa4.out"; then
     ok "solver.flat_branch beyond the branches found: exit $st, one line"
 else
     nok "solver.flat_branch = 4: exit $st"; sed 's/^/#   /' "$tmp/wa4.out" | head -5
@@ -83,14 +83,122 @@ else
     nok "miura 3x3 start: exit $st"; sed 's/^/#   /' "$tmp/m3.out" | head -5
 fi
 
-# 8: no branch along the driving (2x2 Miura, K = 1, tip load): the
-# message says what was found and what to try
+# 8: the 2x2 Miura sheet (K = 1) under the study's tip load of 0.01 N:
+# its only ray is degenerate, and at the first step the motion is too
+# small for exact closure to be resolved; exit 3 naming that, no ds_min
 gen_flat "$tmp/ml.cfg" miura --load=0.01
 "$bin" run "$tmp/ml.cfg" -q -o "$tmp/ml" >"$tmp/ml.out" 2>&1
 st=$?
-if [ $st != 0 ] && grep -q 'no branch on the tangent cone along the driving' "$tmp/ml.out" &&
-   grep -q 'defaults.modes' "$tmp/ml.out" && ! grep -q 'ds_min' "$tmp/ml.out"; then
-    ok "miura 2x2 tip load: exit $st with the tangent-cone diagnosis"
+if [ $st = 3 ] && grep -q 'degenerate ray of the tangent cone' "$tmp/ml.out" &&
+   grep -q 'at the level of the Newton tolerance' "$tmp/ml.out" && ! grep -q 'ds_min' "$tmp/ml.out"; then
+    ok "miura 2x2 tip load 0.01 N: exit $st with the degenerate-ray diagnosis"
 else
-    nok "miura 2x2 tip load: exit $st"; sed 's/^/#   /' "$tmp/ml.out" | head -5
+    nok "miura 2x2 tip load 0.01 N: exit $st"; sed 's/^/#   /' "$tmp/ml.out" | head -5
+fi
+
+# column $2 of the row of $1 whose p is $3 (first match)
+at() { awk -F'\t' -v c="$2" -v p="$3" '/^#/ {next} !h {for (k = 1; k <= NF; k++) if ($k == c) n = k; for (k = 1; k <= NF; k++) if ($k == "p") m = k; h = 1; next} $m == p {print $n; exit}' "$1"; }
+
+# 9: the waterbomb base driven on all folds has a second stable branch:
+# the straight line of the two mountain folds alone (valleys flat to
+# 1e-9, mountains equal); the branch followed by default has the lower
+# energy at every p, here at p = 1
+"$bin" run "$tmp/wa.cfg" --set solver.flat_branch=2 --set analysis.stability=true -q -o "$tmp/wa2" >"$tmp/wa2.out" 2>&1
+st=$?
+b1="$tmp/wa/branch.tsv"; b2="$tmp/wa2/branch.tsv"
+if [ $st = 0 ] && [ "$(col "$b2" p)" = 1 ] && [ "$(col "$b2" stable)" = 1 ] &&
+   awk -v e1="$(col "$b1" energy)" -v e2="$(col "$b2" energy)" -v v="$(col "$b2" theta1)" \
+       -v m1="$(col "$b2" theta5)" -v m2="$(col "$b2" theta6)" '
+       function abs(x) { return x < 0 ? -x : x }
+       BEGIN { exit !(abs(v) < 1e-9 && m1 < -0.5 && abs(m1 - m2) < 1e-9 * abs(m1) && e1 < e2) }'; then
+    ok "waterbomb base branch 2: the mountain line alone ($(col "$b2" theta5) rad), energy $(col "$b2" energy) J above branch 1's $(col "$b1" energy) J"
+else
+    nok "waterbomb base branch 2: exit $st"; sed 's/^/#   /' "$tmp/wa2.out" | head -5
+fi
+
+# 10: the same Miura sheet under 1 N follows the degenerate ray (the rigid
+# Miura mode): exact closure to 1e-10, the straight folds turn 1/cos 60 = 2
+# times as far as the zigzag ones (rigid origami, 1e-4), every zigzag fold
+# by the same angle (1e-4: the corner load breaks the mode's symmetry at
+# higher order only), the tip deflection linear in the load (1e-3)
+gen_flat "$tmp/mL.cfg" miura --load=1
+"$bin" run "$tmp/mL.cfg" --set analysis.end=0.2 --set output.shapes=0 -q -o "$tmp/mL" >"$tmp/mL.out" 2>&1
+st=$?
+b="$tmp/mL/branch.tsv"
+if [ $st = 0 ] && [ "$(col "$b" p)" = 0.2 ] && grep -q '^# flat start: the driving.s branch is a degenerate ray' "$b" &&
+   awk -F'\t' '/^#/ {next} !h {for (k = 1; k <= NF; k++) c[$k] = k; h = 1; next}
+       function abs(x) { return x < 0 ? -x : x }
+       $c["p"] > 0 { n++; if ($c["residual_rot"] > 1e-10 || $c["residual_tra"] > 1e-12) bad = 1
+                     if (!u1) { u1 = $c["probe1_uz"] / $c["p"] }; u2 = $c["probe1_uz"] / $c["p"]
+                     z = $c["theta1"]; s = $c["theta13"]
+                     for (k = 1; k <= 12; k++) if (abs(abs($c["theta" k]) - abs(z)) > 1e-4 * abs(z)) bad = 1
+                     r = s / z }
+       END { exit !(n > 10 && !bad && abs(abs(r) - 2) < 2e-4 && abs(u2 / u1 - 1) < 1e-3) }' "$b"; then
+    ok "miura 2x2 tip load 1 N from flat on the degenerate ray: tip uz $(col "$b" probe1_uz) m at p = 0.2, fold angle ratio $(awk -v a="$(col "$b" theta13)" -v z="$(col "$b" theta1)" 'BEGIN {printf "%.7f", a / z}')"
+else
+    nok "miura 2x2 tip load 1 N: exit $st"; sed 's/^/#   /' "$tmp/mL.out" | head -5
+fi
+
+# 11-12: a 2x2 waterbomb tessellation, both groups driven: folds from flat
+# with exact closure (1e-10) on the regular branch of the cone, which the
+# note calls unstable, naming the degenerate rays of lower energy; the
+# pose formulation reaches the same state (probe and energy, 1e-9)
+"$bin" pattern waterbomb --cells=2x2 --drive=all -o "$tmp/wb.cfg" 2>/dev/null
+for f in folds poses; do
+    "$bin" run "$tmp/wb.cfg" --set solver.formulation="\"$f\"" --set solver.tolerance=1e-11 \
+        --set output.shapes=0 -q -o "$tmp/wb-$f" >"$tmp/wb-$f.out" 2>&1
+    echo $? >"$tmp/wb-$f.st"
+done
+b="$tmp/wb-folds/branch.tsv"
+if [ "$(cat "$tmp/wb-folds.st")" = 0 ] && [ "$(col "$b" p)" = 1 ] &&
+   grep -q '^# flat start: none of the 1 branches .* is stable.*degenerate rays* of the cone ha' "$b" &&
+   awk -F'\t' '/^#/ {next} !h {for (k = 1; k <= NF; k++) c[$k] = k; h = 1; next}
+       $c["residual_rot"] > 1e-10 || $c["residual_tra"] > 1e-12 {bad = 1} END {exit bad}' "$b"; then
+    ok "waterbomb 2x2, both groups driven, folds from flat with exact closure: tip uz $(col "$b" probe1_uz) m at p = 1"
+else
+    nok "waterbomb 2x2 both groups: exit $(cat "$tmp/wb-folds.st")"; sed 's/^/#   /' "$tmp/wb-folds.out" | head -5
+fi
+b2="$tmp/wb-poses/branch.tsv"
+if [ "$(cat "$tmp/wb-poses.st")" = 0 ] && [ "$(col "$b2" p)" = 1 ] &&
+   awk -v a="$(col "$b" probe1_uz)" -v b="$(col "$b2" probe1_uz)" -v e="$(col "$b" energy)" -v f="$(col "$b2" energy)" '
+       function abs(x) { return x < 0 ? -x : x }
+       BEGIN { exit !(abs(a - b) <= 1e-9 * abs(a) && abs(e - f) <= 1e-9 * abs(e)) }'; then
+    ok "waterbomb 2x2: the pose formulation ends at the same state (uz $(col "$b2" probe1_uz) m, energy $(col "$b2" energy) J)"
+else
+    nok "waterbomb 2x2 poses: exit $(cat "$tmp/wb-poses.st")"; sed 's/^/#   /' "$tmp/wb-poses.out" | head -5
+fi
+
+# 13: Yoshimura and the waterbomb base under a 1 N tip load from flat:
+# both formulations end at the same state (probe and energy, 1e-9)
+gen_flat "$tmp/yL.cfg" yoshimura --load=1
+gen_flat "$tmp/wL.cfg" waterbomb --cells=1x1 --load=1
+bad=""
+for c in yL wL; do
+    for f in folds poses; do
+        "$bin" run "$tmp/$c.cfg" --set solver.formulation="\"$f\"" --set solver.tolerance=1e-12 \
+            --set output.shapes=0 -q -o "$tmp/$c-$f" >/dev/null 2>&1 || bad="$bad $c-$f"
+    done
+    awk -v a="$(col "$tmp/$c-folds/branch.tsv" probe1_uz)" -v b="$(col "$tmp/$c-poses/branch.tsv" probe1_uz)" \
+        -v e="$(col "$tmp/$c-folds/branch.tsv" energy)" -v f="$(col "$tmp/$c-poses/branch.tsv" energy)" '
+        function abs(x) { return x < 0 ? -x : x }
+        BEGIN { exit !(a != 0 && abs(a - b) <= 1e-9 * abs(a) && abs(e - f) <= 1e-9 * abs(e)) }' || bad="$bad $c"
+done
+if [ -z "$bad" ]; then
+    ok "yoshimura and waterbomb base, 1 N from flat: folds and poses agree to 1e-9 (uz $(col "$tmp/yL-folds/branch.tsv" probe1_uz), $(col "$tmp/wL-folds/branch.tsv" probe1_uz) m)"
+else
+    nok "folds against poses from flat:$bad"
+fi
+
+# 14: Yoshimura's two stable branches: the default one has the lower
+# energy at the same p (p = 1), and both stay stable
+"$bin" run "$tmp/yL.cfg" --set solver.flat_branch=2 --set output.shapes=0 --set analysis.stability=true \
+    -q -o "$tmp/yL2" >"$tmp/yL2.out" 2>&1
+st=$?
+"$bin" run "$tmp/yL.cfg" --set output.shapes=0 --set analysis.stability=true -q -o "$tmp/yL1" >/dev/null 2>&1
+if [ $st = 0 ] && [ "$(col "$tmp/yL2/branch.tsv" p)" = 1 ] && [ "$(col "$tmp/yL1/branch.tsv" p)" = 1 ] &&
+   [ "$(col "$tmp/yL1/branch.tsv" stable)" = 1 ] && [ "$(col "$tmp/yL2/branch.tsv" stable)" = 1 ] &&
+   awk -v e1="$(col "$tmp/yL1/branch.tsv" energy)" -v e2="$(col "$tmp/yL2/branch.tsv" energy)" 'BEGIN {exit !(e1 < e2)}'; then
+    ok "yoshimura 1 N: branch 1 energy $(col "$tmp/yL1/branch.tsv" energy) J below branch 2's $(col "$tmp/yL2/branch.tsv" energy) J at p = 1"
+else
+    nok "yoshimura branches: exit $st"; sed 's/^/#   /' "$tmp/yL2.out" | head -5
 fi

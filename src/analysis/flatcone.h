@@ -26,6 +26,13 @@ typedef struct sf_cone {
     double *energy;      /* nb: x^T A x / 2 + b . x (scaled by kref) */
     int *stable;         /* nb */
     double *resid;       /* nb: max-norm residual of the limit problem */
+    /* Degenerate rays (sf_cone_find_rays): rays of the cone on which the
+     * driving does work but the limit problem has no solution, because
+     * the driving also pushes along a direction that the cone blocks at
+     * higher order only (the prestress would grow like 1 / (p - p0)) */
+    int ndeg, degcap;
+    double *degu;        /* ndeg x nq: u at the ray's best amplitude */
+    double *degen;       /* ndeg: its energy -(b . x)^2 / (2 x^T A x) */
 } sf_cone;
 
 /* Find the branches: a penalty descent (the second-order conditions as a
@@ -40,6 +47,14 @@ typedef struct sf_cone {
  * -1 when out of memory or a LAPACK failure. */
 int sf_cone_find(const sf_limit *L, int nstarts, const double *zextra, sf_cone *c);
 void sf_cone_free(sf_cone *c);
+
+/* The same, with nrays further candidate rays (nq values each: directions
+ * of u, e.g. the branches of another driving, which has the same cone):
+ * each is taken onto the cone's ray, signed so that the driving does
+ * work, and polished; one on which the limit problem has no solution is
+ * returned as a degenerate ray (ndeg, degu, degen). */
+int sf_cone_find_rays(const sf_limit *L, int nstarts, const double *zextra, const double *rays,
+                      int nrays, sf_cone *c);
 
 /* Residual max-norm of the limit problem at z with eps = 0 (flatstart.c). */
 double sf_limit_residual(const sf_limit *L, const double *z);

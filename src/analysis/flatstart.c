@@ -39,6 +39,7 @@
 #include "flatstart.h"
 
 #include "flatcone.h"
+#include "study.h"
 
 #include "cont.h"
 
@@ -441,6 +442,61 @@ double sf_limit_solve(const sf_limit *Lp, double *z, int maxit, int *iters)
 
 #define CONE_STARTS 1      /* starts of the search on the tangent cone */
 #define HOMOTOPY_SHORT 2000 /* Newton iterations of the homotopy as a candidate */
+
+/* Rays of the tangent cone selected by the crease assignment: the
+ * branches of the limit problem driven towards fold angles +1 (valley
+ * folds) and -1 (mountain folds), with L's cone.  *rays receives them (nq
+ * values each, malloc'd; NULL when none).  Returns their number, -1 when
+ * out of memory. */
+static int assignment_rays(sf_equil *q, const sf_limit *L, double **rays)
+{
+    const sf_model *m = q->m;
+    const sf_study *s = m->study;
+    int nq = L->nq, any = 0;
+    *rays = NULL;
+    double *target = calloc((size_t)nq + 1, sizeof(double));
+    double *gv = calloc((size_t)nq + 1, sizeof(double));
+    double *zv = calloc((size_t)L->n + 1, sizeof(double));
+    if (!target || !gv || !zv) { free(target); free(gv); free(zv); return -1; }
+    for (int i = 0; i < m->nfolds && i < s->nfolds; i++) {
+        char key[64];
+        snprintf(key, sizeof key, "folds[%d].assignment", i);
+        if (!sf_study_has(s, key)) continue;
+        const char *a = NULL;
+        sf_error e;
+        sf_error_clear(&e);
+        if (sf_study_string(s, key, "", &a, &e) || !a) continue;
+        double sg = strcmp(a, "V") == 0 ? 1.0 : strcmp(a, "M") == 0 ? -1.0 : 0.0;
+        target[m->qoff[i]] = sg;
+        any |= sg != 0.0;
+    }
+    int nr = 0;
+    if (any) {
+        for (int i = 0; i < nq; i++) {
+            double v = 0.0;
+            for (int j = 0; j < nq; j++) v -= L->H0[(size_t)i * nq + j] * target[j];
+            gv[i] = v;
+        }
+        sf_limit Lv = *L;
+        Lv.gp = gv;
+        double ev = sf_limit_solve(&Lv, zv, HOMOTOPY_SHORT, NULL);
+        sf_cone Cv;
+        if (ev >= 0 && sf_cone_find(&Lv, CONE_STARTS, ev <= LIMIT_TOL * 1e3 ? zv : NULL, &Cv) == 0) {
+            *rays = malloc(sizeof(double) * ((size_t)(Cv.nb + 1) * nq));
+            if (*rays) {
+                for (int b = 0; b < Cv.nb; b++)
+                    memcpy(*rays + (size_t)nr++ * nq, Cv.z + (size_t)b * L->n, sizeof(double) * (size_t)nq);
+                if (ev <= LIMIT_TOL * 1e3) memcpy(*rays + (size_t)nr++ * nq, zv, sizeof(double) * (size_t)nq);
+            }
+            sf_cone_free(&Cv);
+            if (!*rays) nr = -1;
+        }
+    }
+    free(target);
+    free(gv);
+    free(zv);
+    return nr;
+}
 #define TIE_RTOL 1e-7      /* branches of equal energy: the driving selects none */
 
 /* The branch from the tangent cone (flatcone.h): the stable solution of
@@ -461,7 +517,22 @@ static int cone_start(sf_equil *q, const sf_limit *L, int pick, double *z, doubl
     if (!zh) return sf_fail(err, SF_ENOMEM, "out of memory");
     double eh = sf_limit_solve(L, zh, HOMOTOPY_SHORT, NULL);
     sf_cone C;
-    int fr = sf_cone_find(L, CONE_STARTS, eh >= 0 && eh <= LIMIT_TOL * 1e3 ? zh : NULL, &C);
+    const double *zx = eh >= 0 && eh <= LIMIT_TOL * 1e3 ? zh : NULL;
+    int fr = sf_cone_find(L, CONE_STARTS, zx, &C);
+    if (!fr && C.nb == 0) {
+        /* nothing regular: the branches of the crease assignment's own
+         * driving as further rays (the cone does not depend on the
+         * driving; miura-2x2 under a tip load has its only ray, a
+         * degenerate one, found from there) */
+        double *rays = NULL;
+        int nrays = assignment_rays(q, L, &rays);
+        if (nrays > 0) {
+            sf_cone_free(&C);
+            fr = sf_cone_find_rays(L, CONE_STARTS, zx, rays, nrays, &C);
+        }
+        free(rays);
+        if (nrays < 0) fr = -1;
+    }
     free(zh);
     if (fr)
         return sf_fail(err, SF_ENOMEM, "%s: flat start: out of memory (or a LAPACK failure) on "
@@ -476,7 +547,20 @@ static int cone_start(sf_equil *q, const sf_limit *L, int pick, double *z, doubl
     char note[sizeof info->note];
     note[0] = 0;
     int rc = SF_OK;
-    if (C.k > 0 && C.ncone == 0) {
+    int deg = -1;
+    if (C.nb == 0 && C.ndeg > 0) {
+        deg = 0;
+        for (int i = 1; i < C.ndeg; i++)
+            if (C.degen[i] < C.degen[deg]) deg = i;
+    }
+    if (deg >= 0) {
+        snprintf(note, sizeof note, "flat start: the driving's branch is a degenerate ray of the "
+                 "tangent cone (%d first-order motions, %d second-order conditions; %d such "
+                 "ray%s): the driving also pushes along a motion that loop closure blocks only "
+                 "at third order, so the prestress of the flat sheet grows like 1/(p - p0) and "
+                 "the branch has no regular limit; starting on the ray of lowest energy", C.k,
+                 C.r, C.ndeg, C.ndeg == 1 ? "" : "s");
+    } else if (C.k > 0 && C.ncone == 0) {
         snprintf(note, sizeof note, "flat start: no branch on the tangent cone along the driving "
                  "(%d first-order motions, %d independent second-order loop conditions on them; "
                  "the search from the driving's response ends at the flat state): exact closure "
@@ -487,8 +571,22 @@ static int cone_start(sf_equil *q, const sf_limit *L, int pick, double *z, doubl
                  "tangent cone of the flat state (%d cone points found)", C.k, C.ncone);
     } else if (ns == 0) {
         chosen = 0;
-        snprintf(note, sizeof note, "flat start: none of the %d branches of the tangent cone is "
-                 "stable; following the one of lowest energy", C.nb);
+        int lower = 0;
+        double emin = C.energy[0];
+        for (int i = 0; i < C.ndeg; i++)
+            if (C.degen[i] < C.energy[0]) {
+                lower++;
+                emin = fmin(emin, C.degen[i]);
+            }
+        int len = snprintf(note, sizeof note, "flat start: none of the %d branches of the "
+                           "tangent cone is stable; following the one of lowest energy (%.4g)",
+                           C.nb, C.energy[0]);
+        if (lower && len > 0 && (size_t)len < sizeof note)
+            snprintf(note + len, sizeof note - (size_t)len, "; %d degenerate ray%s of the cone "
+                     "ha%s lower energy (down to %.4g) but no regular limit (the loops' prestress "
+                     "grows like 1/(p - p0)): a stable branch may leave the flat state there, "
+                     "which this start does not follow", lower, lower == 1 ? "" : "s",
+                     lower == 1 ? "s" : "ve", emin);
     } else if (chosen < 0) {
         rc = sf_fail(err, SF_EINPUT, "%s: solver.flat_branch = %d, but the flat state has %d "
                      "stable branch%s (1..%d, by energy)", path, pick, ns, ns == 1 ? "" : "es", ns);
@@ -514,6 +612,15 @@ static int cone_start(sf_equil *q, const sf_limit *L, int pick, double *z, doubl
     if (rc == SF_OK && chosen >= 0) {
         memcpy(z, C.z + (size_t)chosen * L->n, sizeof(double) * (size_t)L->n);
         *en = C.resid[chosen];
+    } else if (rc == SF_OK && deg >= 0) {
+        /* the multipliers of the singular branch are left to Newton */
+        memset(z, 0, sizeof(double) * (size_t)L->n);
+        memcpy(z, C.degu + (size_t)deg * L->nq, sizeof(double) * (size_t)L->nq);
+        *en = 0.0;
+        if (info) {
+            info->chosen = 1;
+            info->degenerate = 1;
+        }
     }
     sf_cone_free(&C);
     return rc;
@@ -572,6 +679,8 @@ int sf_equil_start_limit_branch(sf_equil *q, double p0, double p1, int branch, d
     double dp = p1 - p0;
     memset(y, 0, sizeof(double) * (size_t)q->n);
     for (int j = 0; j < nq; j++) y[j] = dp * z[j];
+    if (info)
+        for (int j = 0; j < nq; j++) info->amplitude = fmax(info->amplitude, fabs(y[j]));
     for (int r = 0; r < nc; r++) {
         double f = row_scale(q, r), v = 0.0;
         for (int c = 0; c < n1; c++) v += L.U[(size_t)c * nc + r] * dp * z[nq + c];
@@ -594,8 +703,14 @@ int sf_equil_start_flat(sf_equil *q, struct cont_solver *cs, double p0, double p
         return sf_fail(err, rc, "%s", lerr.msg);
     if (rc == SF_OK && cont_start(cs, y, p1, dir) == CONT_OK) return SF_OK;
     /* the penalty homotopy (sf_equil_start_off_flat) as the fallback */
-    char why[1100];
-    snprintf(why, sizeof why, "%s", rc ? lerr.msg : cont_errmsg(cs));
+    char why[2000];
+    if (rc == SF_OK && info && info->degenerate)
+        snprintf(why, sizeof why, "%s; on it the fold coordinates at p = %g are about %.2g, "
+                 "so the second-order loop terms (about %.2g) that this branch turns on are "
+                 "at the level of the Newton tolerance %g: %s", info->note, p1, info->amplitude,
+                 info->amplitude * info->amplitude, tol, cont_errmsg(cs));
+    else
+        snprintf(why, sizeof why, "%s", rc ? lerr.msg : cont_errmsg(cs));
     memset(y, 0, sizeof(double) * (size_t)q->n);
     sf_error_clear(&lerr);
     if (sf_equil_start_off_flat(q, p1, tol, y, &lerr))

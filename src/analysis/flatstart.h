@@ -48,6 +48,8 @@ typedef struct sf_flatstart_info {
     int branches;            /* stable branches found on the tangent cone */
     int ties;                /* of them, sharing the lowest energy */
     int chosen;              /* the one followed (1-based), 0: none */
+    int degenerate;          /* 1: the start is on a degenerate ray (flatcone.h) */
+    double amplitude;        /* max |fold coordinate| of the guess at p1 */
     char note[600];          /* what was found and chosen, for the output */
 } sf_flatstart_info;
 
