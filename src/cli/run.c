@@ -672,12 +672,11 @@ static int write_outputs(run_ctx *r)
         sf_outbuf_printf(&out, "# %d branches, each a block after two blank lines (gnuplot index 0..%d)\n",
                   r->bif.nbranches, r->bif.nbranches - 1);
     sf_outbuf_printf(&out, "point\tbranch\ts\tp\tload");
-    for (int i = 0; i < s->nprobes; i++)
-        sf_outbuf_printf(&out, "\tprobe%d_ux\tprobe%d_uy\tprobe%d_uz", i + 1, i + 1, i + 1);
+    sf_outbuf_probe_columns(&out, s->nprobes);
     sf_outbuf_printf(&out, "\tenergy\tresidual\tresidual_rot\tresidual_tra\tnewton\tstable\tmorse");
-    for (int i = 0; i < r->nev; i++) sf_outbuf_printf(&out, "\teig%d", i + 1);
+    sf_outbuf_numbered_columns(&out, "eig", r->nev);
     sf_outbuf_printf(&out, "\ttype");
-    for (int i = 0; i < s->nfolds; i++) sf_outbuf_printf(&out, "\ttheta%d", i + 1);
+    sf_outbuf_numbered_columns(&out, "theta", s->nfolds);
     sf_outbuf_printf(&out, "\n");
     if (r->rows.n) sf_outbuf_printf(&out, "%.*s", (int)r->rows.n, r->rows.s);
     WRITE("branch.tsv", out);
@@ -689,10 +688,9 @@ static int write_outputs(run_ctx *r)
     out.n = 0;
     sf_outbuf_printf(&out, "%s", r->header.s ? r->header.s : "");
     sf_outbuf_printf(&out, "point\tbranch\ttype\tp\ts");
-    for (int i = 0; i < s->nprobes; i++)
-        sf_outbuf_printf(&out, "\tprobe%d_ux\tprobe%d_uy\tprobe%d_uz", i + 1, i + 1, i + 1);
+    sf_outbuf_probe_columns(&out, s->nprobes);
     sf_outbuf_printf(&out, "\tstable\tmorse");
-    for (int i = 0; i < r->nev; i++) sf_outbuf_printf(&out, "\teig%d", i + 1);
+    sf_outbuf_numbered_columns(&out, "eig", r->nev);
     sf_outbuf_printf(&out, "\tloc_err\n");
     if (r->special.n) sf_outbuf_printf(&out, "%.*s", (int)r->special.n, r->special.s);
     WRITE("special.tsv", out);
