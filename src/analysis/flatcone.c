@@ -39,6 +39,7 @@
  * apart, with its energy.
  */
 #include "flatcone.h"
+#include "flatcone_impl.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -50,24 +51,15 @@ extern void dgesvd_(const char *jobu, const char *jobvt, const int *m, const int
 extern void dgelss_(const int *m, const int *n, const int *nrhs, double *a, const int *lda,
                     double *b, const int *ldb, double *s, const double *rcond, int *rank,
                     double *work, const int *lwork, int *info);
-extern void dgesv_(const int *n, const int *nrhs, double *a, const int *lda, int *ipiv, double *b,
-                   const int *ldb, int *info);
 extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, const int *lda,
                    double *w, double *work, const int *lwork, int *info);
 
 #define KER_RTOL 1e-8     /* singular values of J1 below this (relative) span the kernel */
 #define FORM_RTOL 1e-9    /* forms below this (relative) depend on the others */
-#define CONE_TOL 1e-13    /* |x^T Q x| / 2 on a cone point (x^T A x = 1) */
-#define CONE_MAXIT 60
 #define NEWTON_MAXIT 60
 #define SOL_TOL 1e-12     /* reduced residual, relative to max(1, |b|) */
-#define SAME_TOL 1e-3     /* two solutions are one when closer (A norm, relative): a flat valley of the energy converges to ~1e-6 only */
 #define STAB_TOL 1e-9     /* smallest reduced eigenvalue of a stable branch (relative) */
-#define ASCENT_MAXIT 400  /* projected-gradient steps of the work on the cone */
-#define ASCENT_TOL 1e-6   /* projected gradient (A norm, relative) of a stationary ray */
-#define ASCENT_STARTS 24  /* random starts of the ascent on the cone */
 
-typedef sf_cone_red red;   /* flatcone.h */
 
 static void red_free(red *R)
 {
@@ -576,226 +568,9 @@ static int add_sol(const red *R, const double *v, double a0, double *sols, doubl
     return ns + 1;
 }
 
-/* Work space of the ascent on the cone */
-typedef struct awork {
-    double *Ainv;    /* k x k: A^-1 */
-    double *C, *M, *g, *d, *mu, *xt, *h, *tmp;
-} awork;
-
-/* Gauss-Newton with minimum-norm steps on x^T Q_t x / 2 = 0 (x kept at
- * unit A norm).  Returns the final max |h_t|. */
-static double cone_project(const red *R, double *x, awork *a)
-{
-    int k = R->k, r = R->r;
-    double hm = 0.0;
-    anormalise(R, x, a->tmp);
-    for (int it = 0; it < CONE_MAXIT; it++) {
-        cone_eval(R, x, a->h, a->C, a->tmp);
-        hm = maxabs(a->h, r);
-        if (hm <= CONE_TOL) break;
-        for (int t = 0; t < r; t++) a->d[t] = -a->h[t];
-        if (lstsq(r, k, a->C, a->d)) return INFINITY;
-        for (int i = 0; i < k; i++) x[i] += a->d[i];
-        anormalise(R, x, a->tmp);
-    }
-    return hm;
-}
-
-/* From x (unit A norm, on the cone), raise the work -b . x along the cone
- * by projected gradient steps in the A metric: d = A^-1 (C^T mu - b) with
- * C = [(Q_t x)^T; (A x)^T] and C d = 0, then back onto the cone.  A step
- * that does not raise the work is halved; the ascent ends where the
- * projected gradient vanishes (a stationary ray, polished by the caller)
- * or no step helps (a corner of the cone).  Returns 0 at a stationary
- * ray. */
-static int cone_ascend(const red *R, double *x, awork *a)
-{
-    int k = R->k, r = R->r, m = r + 1;
-    double step = 0.05;
-    for (int it = 0; it < ASCENT_MAXIT; it++) {
-        cone_eval(R, x, a->h, a->C, a->tmp);   /* C rows 0..r-1 (leading dimension r) */
-        /* C with leading dimension m: row r is (A x)^T */
-        for (int j = k - 1; j >= 0; j--)
-            for (int t = r - 1; t >= 0; t--) a->C[(size_t)j * m + t] = a->C[(size_t)j * r + t];
-        matvec(k, R->A, x, a->tmp);
-        for (int j = 0; j < k; j++) a->C[(size_t)j * m + r] = a->tmp[j];
-        /* g = -A^-1 b; M = C A^-1 C^T; mu = lstsq(M, -C g) */
-        matvec(k, a->Ainv, R->b, a->g);
-        for (int i = 0; i < k; i++) a->g[i] = -a->g[i];
-        double *AC = a->xt;   /* k x m: A^-1 C^T (xt has room: see sf_cone_find) */
-        for (int t = 0; t < m; t++) {
-            for (int j = 0; j < k; j++) a->tmp[j] = a->C[(size_t)j * m + t];
-            matvec(k, a->Ainv, a->tmp, AC + (size_t)t * k);
-        }
-        for (int t = 0; t < m; t++) {
-            double v = 0.0;
-            for (int j = 0; j < k; j++) v += a->C[(size_t)j * m + t] * a->g[j];
-            a->mu[t] = -v;
-            for (int u = 0; u < m; u++) {
-                double w = 0.0;
-                for (int j = 0; j < k; j++) w += a->C[(size_t)j * m + t] * AC[(size_t)u * k + j];
-                a->M[(size_t)u * m + t] = w;
-            }
-        }
-        if (lstsq(m, m, a->M, a->mu)) return -1;
-        for (int i = 0; i < k; i++) {
-            double v = a->g[i];
-            for (int t = 0; t < m; t++) v += AC[(size_t)t * k + i] * a->mu[t];
-            a->d[i] = v;
-        }
-        matvec(k, R->A, a->d, a->tmp);
-        double dn = sqrt(fmax(dot(k, a->d, a->tmp), 0.0));
-        if (dn <= ASCENT_TOL * fmax(1.0, sqrt(fmax(-dot(k, R->b, a->g), 0.0)))) return 0;
-        double w0 = dot(k, R->b, x);
-        int moved = 0;
-        for (int bt = 0; bt < 12 && !moved; bt++, step *= 0.5) {
-            double *xn = a->tmp + k;   /* tmp has room for 2k */
-            for (int i = 0; i < k; i++) xn[i] = x[i] + step * a->d[i] / dn;
-            if (cone_project(R, xn, a) > CONE_TOL * 1e3) continue;
-            if (dot(k, R->b, xn) < w0) {
-                memcpy(x, xn, sizeof(double) * (size_t)k);
-                moved = 1;
-            }
-        }
-        if (!moved) return 1;
-        step = fmin(0.2, step * 4.0);
-    }
-    return 1;
-}
-
-/* Polish the ray x (unit A norm, b . x < 0) at its best amplitude by
- * Newton on the reduced problem; v receives (x, nu').  0 when converged. */
-static int ray_polish(const red *R, const double *x, double *v, double *F, double *Jm, double *d,
-                      double *vt, double *tmp)
-{
-    int k = R->k, r = R->r;
-    double lam = -dot(k, R->b, x);
-    for (int i = 0; i < k; i++) v[i] = lam * x[i];
-    if (r > 0) {
-        for (int t = 0; t < r; t++) matvec(k, R->Q + (size_t)t * k * k, v, Jm + (size_t)t * k);
-        matvec(k, R->A, v, d);
-        for (int i = 0; i < k; i++) d[i] = -(d[i] + R->b[i]);
-        if (lstsq(k, r, Jm, d)) return -1;
-        memcpy(v + k, d, sizeof(double) * (size_t)r);
-    }
-    return red_newton(R, v, F, Jm, d, vt, tmp);
-}
-
-/* Keep the ray x (unit A norm, w = b . x < 0) as a degenerate one of c
- * (capacity c->degcap) unless it is there already. */
-static void deg_add(const red *R, const double *x, double w, sf_cone *c)
-{
-    int k = R->k, nq = R->nq;
-    if (c->ndeg >= c->degcap) return;
-    double *u = c->degu + (size_t)c->ndeg * nq, un = 0.0;
-    for (int i = 0; i < nq; i++) {
-        double vv = 0.0;
-        for (int cc = 0; cc < k; cc++) vv += R->N[(size_t)cc * nq + i] * x[cc];
-        u[i] = -w * vv;
-        un = fmax(un, fabs(u[i]));
-    }
-    for (int j = 0; j < c->ndeg; j++) {
-        const double *o = c->degu + (size_t)j * nq;
-        double dm = 0.0;
-        for (int i = 0; i < nq; i++) dm = fmax(dm, fabs(o[i] - u[i]));
-        if (dm <= SAME_TOL * un) return;
-    }
-    c->degen[c->ndeg++] = -0.5 * w * w;
-}
-
-/* ASCENT_STARTS pseudo-random rays: onto the cone, up the work, polished;
- * the solutions are added to sols.  -1 when out of memory. */
-static int cone_search(const red *R, double a0, double *sols, double *en, int *ns, int nmax,
-                       sf_cone *c, double *v, double *F, double *Jm, double *d, double *vt,
-                       unsigned long long *st)
-{
-    int k = R->k, r = R->r, m = r + 1, rc = -1, big = (k > m ? k : m) + 1;
-    awork a;
-    memset(&a, 0, sizeof a);
-    a.Ainv = malloc(sizeof(double) * ((size_t)k * k + 1));
-    a.C = malloc(sizeof(double) * ((size_t)m * k + 1));
-    a.M = malloc(sizeof(double) * ((size_t)m * m + 1));
-    a.g = malloc(sizeof(double) * (size_t)big);
-    a.d = malloc(sizeof(double) * (size_t)big);
-    a.mu = malloc(sizeof(double) * (size_t)big);
-    a.xt = malloc(sizeof(double) * ((size_t)k * m + 1));
-    a.h = malloc(sizeof(double) * (size_t)big);
-    a.tmp = malloc(sizeof(double) * (2 * (size_t)big));
-    double *x = malloc(sizeof(double) * (size_t)big);
-    int *ipiv = malloc(sizeof(int) * (size_t)big);
-    double *Ac = malloc(sizeof(double) * ((size_t)k * k + 1));
-    if (!a.Ainv || !a.C || !a.M || !a.g || !a.d || !a.mu || !a.xt || !a.h || !a.tmp || !x || !ipiv || !Ac)
-        goto done;
-    memcpy(Ac, R->A, sizeof(double) * (size_t)k * k);
-    for (int j = 0; j < k; j++)
-        for (int i = 0; i < k; i++) a.Ainv[(size_t)j * k + i] = i == j;
-    int info;
-    dgesv_(&k, &k, Ac, &k, ipiv, a.Ainv, &k, &info);
-    if (info) goto done;
-    for (int start = 0; start < ASCENT_STARTS; start++) {
-        for (int i = 0; i < k; i++) x[i] = rnd(st);
-        if (cone_project(R, x, &a) > CONE_TOL) continue;
-        if (dot(k, R->b, x) > 0.0)
-            for (int i = 0; i < k; i++) x[i] = -x[i];
-        int ar = cone_ascend(R, x, &a);
-        if (ar < 0) goto done;
-        if (!(dot(k, R->b, x) < 0.0)) continue;
-        int pr = ray_polish(R, x, v, F, Jm, d, vt, a.tmp);
-        if (pr < 0) goto done;
-        if (!pr) *ns = add_sol(R, v, a0, sols, en, *ns, nmax, &c->ncone, d, a.tmp);
-        else if (ar == 1) {
-            /* the ascent ended at a corner of the cone, where the limit
-             * problem has no solution: a degenerate ray */
-            c->ncone++;
-            deg_add(R, x, dot(k, R->b, x), c);
-        }
-    }
-    rc = 0;
-done:
-    free(a.Ainv); free(a.C); free(a.M); free(a.g); free(a.d); free(a.mu); free(a.xt);
-    free(a.h); free(a.tmp); free(x); free(ipiv); free(Ac);
-    return rc;
-}
-
 int sf_cone_find(const sf_limit *L, int nstarts, const double *zextra, sf_cone *c)
 {
     return sf_cone_find_rays(L, nstarts, zextra, NULL, 0, c);
-}
-
-/* The rays (nq values each, directions of u) onto the cone, polished at
- * their best amplitude: a solution is added to sols; a ray of the cone on
- * which the reduced problem has no solution (degenerate) is kept in c's
- * deg fields.  -1 when out of memory. */
-static int rays_add(const sf_limit *L, const red *R, const double *rays, int nrays, double a0,
-                    double *sols, double *en, int *ns, int nmax, sf_cone *c, double *v, double *F,
-                    double *Jm, double *d, double *vt, double *tmp)
-{
-    int k = R->k, nq = L->nq;
-    if (nrays <= 0) return 0;
-    double *x = malloc(sizeof(double) * ((size_t)k + 1));
-    if (!x) return -1;
-    for (int j = 0; j < nrays; j++) {
-        for (int i = 0; i < k; i++) x[i] = dot(nq, R->N + (size_t)i * nq, rays + (size_t)j * nq);
-        anormalise(R, x, tmp);
-        cone_eval(R, x, F, NULL, tmp);
-        if (maxabs(F, R->r) > CONE_TOL * 1e3) continue;   /* not on the cone */
-        if (dot(k, R->b, x) > 0.0)
-            for (int i = 0; i < k; i++) x[i] = -x[i];
-        double w = dot(k, R->b, x);
-        if (!(w < 0.0)) continue;
-        int pr = ray_polish(R, x, v, F, Jm, d, vt, tmp);
-        if (pr < 0) { free(x); return -1; }
-        if (!pr) {
-            *ns = add_sol(R, v, a0, sols, en, *ns, nmax, &c->ncone, d, tmp);
-        } else {
-            /* degenerate: the driving pushes along a direction that the
-             * cone blocks at higher order; kept at its best amplitude */
-            c->ncone++;
-            deg_add(R, x, w, c);
-        }
-    }
-    free(x);
-    return 0;
 }
 
 int sf_cone_find_rays(const sf_limit *L, int nstarts, const double *zextra, const double *rays,
@@ -907,9 +682,9 @@ int sf_cone_find_rays(const sf_limit *L, int nstarts, const double *zextra, cons
     c->degu = calloc((size_t)c->degcap * L->nq + 1, sizeof(double));
     c->degen = calloc((size_t)c->degcap + 1, sizeof(double));
     if (!c->degu || !c->degen) goto done;
-    if (rays_add(L, &R, rays, nrays, a0, sols, en, &ns, nmax, c, v, F, Jm, d, vt, w.tmp) < 0)
+    if (sf_fc_rays_add(L, &R, rays, nrays, a0, sols, en, &ns, nmax, c, v, F, Jm, d, vt, w.tmp) < 0)
         goto done;
-    if (r > 0 && cone_search(&R, a0, sols, en, &ns, nmax, c, v, F, Jm, d, vt, &st) < 0)
+    if (r > 0 && sf_fc_cone_search(&R, a0, sols, en, &ns, nmax, c, v, F, Jm, d, vt, &st) < 0)
         goto done;
     /* sort by energy (insertion) */
     int *ord = malloc(sizeof(int) * ((size_t)ns + 1));
@@ -950,4 +725,26 @@ void sf_cone_reduce_free(sf_cone_red *R) { red_free(R); }
 int sf_cone_to_limit(const sf_limit *L, const sf_cone_red *R, const double *v, double *z)
 {
     return to_full(L, R, v, z);
+}
+
+/* The helpers of flatcone_rays.c (flatcone_impl.h) */
+int sf_fc_lstsq(int m, int n, double *a, double *b) { return lstsq(m, n, a, b); }
+double sf_fc_maxabs(const double *v, int n) { return maxabs(v, n); }
+void sf_fc_matvec(int k, const double *M, const double *x, double *y) { matvec(k, M, x, y); }
+double sf_fc_dot(int k, const double *a, const double *b) { return dot(k, a, b); }
+void sf_fc_cone_eval(const red *R, const double *x, double *h, double *Jh, double *tmp)
+{
+    cone_eval(R, x, h, Jh, tmp);
+}
+void sf_fc_anormalise(const red *R, double *x, double *tmp) { anormalise(R, x, tmp); }
+int sf_fc_red_newton(const red *R, double *v, double *F, double *Jm, double *d, double *vt,
+                     double *tmp)
+{
+    return red_newton(R, v, F, Jm, d, vt, tmp);
+}
+double sf_fc_rnd(unsigned long long *st) { return rnd(st); }
+int sf_fc_add_sol(const red *R, const double *v, double a0, double *sols, double *en, int ns,
+                  int nmax, int *ncone, double *d, double *tmp)
+{
+    return add_sol(R, v, a0, sols, en, ns, nmax, ncone, d, tmp);
 }

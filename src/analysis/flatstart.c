@@ -692,7 +692,7 @@ int sf_equil_start_limit_branch(sf_equil *q, double p0, double p1, int branch, d
     /* back to the unknowns of the exact problem at p1 */
     sf_limit_to_state(q, &L, z, p1 - p0, y);
     if (info)
-        for (int j = 0; j < nq; j++) info->amplitude = fmax(info->amplitude, fabs(y[j]));
+        for (int j = 0; j < L.nq; j++) info->amplitude = fmax(info->amplitude, fabs(y[j]));
 done:
     free(z);
     sf_limit_free(&L);
