@@ -36,15 +36,15 @@ extern void dsygv_(const int *itype, const char *jobz, const char *uplo, const i
 #define SAME_RTOL 1e-4   /* two solutions are one (x, relative; distinct ones differ by O(1)) */
 #define SIG_RTOL 1e-6    /* symmetric images: same p*, energy, sorted |u| */
 #define ISOL_MIN 1e-6    /* isolated solution: Jacobian's singular value ratio above this */
-#define USE_HOMOTOPY 0   /* the penalty homotopy from the pencil modes (slow; found no more) */
-#define HOM_MODES 12     /* pencil modes followed by the penalty homotopy */
+#define LM_MAXIT 30
+#define LM_ROUNDS 2
+#define HOM_MODES 12     /* pencil modes (and their sums, differences) as extra starts */
 
 /* The reduced system: v = (x[k], nu[r], s) with s = p* - p0 when hom. */
 typedef struct sys {
     int k, r, hom, n;
     const double *A, *Ap, *b, *Q;
     double scale;         /* largest |A_ij| */
-    double eps;           /* homotopy: x^T Q_t x / 2 = eps nu_t (0: the equations) */
 } sys;
 
 static double dot(int n, const double *a, const double *b)
@@ -98,9 +98,8 @@ static void sys_eval(const sys *S, const double *v, double *F, double *Jm, doubl
         const double *Q = S->Q + (size_t)t * k * k;
         matvec(k, Q, x, tmp);
         for (int i = 0; i < k; i++) F[i] += nu[t] * tmp[i];
-        F[k + t] = 0.5 * dot(k, x, tmp) - S->eps * nu[t];
+        F[k + t] = 0.5 * dot(k, x, tmp);
         if (Jm) {
-            Jm[(size_t)(k + t) * n + k + t] = -S->eps;
             for (int j = 0; j < k; j++)
                 for (int i = 0; i < k; i++) Jm[(size_t)j * n + i] += nu[t] * Q[(size_t)j * k + i];
             for (int i = 0; i < k; i++) {
@@ -131,15 +130,81 @@ static int lstsq(int m, int n, double *a, double *b)
 
 /* Work space of the search */
 typedef struct work {
-    double *F, *Jm, *J2, *d, *vt, *tmp, *a;
+    double *F, *Jm, *J2, *d, *vt, *tmp, *a, *JtJ;
     int *ipiv;
+    /* deflation (Farrell, Birkisson & Funke, SIAM J. Sci. Comput. 37, 2015):
+     * the solutions found so far, x in the first k of every n values */
+    const double *defl;
+    int ndefl;
+    double dscale;        /* length scale of x (distances relative to it) */
 } work;
+
+/* The deflation factor M(x) = prod_j (dscale^2 / |x - x_j|^2 + 1) over
+ * the known solutions (and their negatives when hom); g = grad ln M (k
+ * values, when not NULL).  Returns ln M. */
+static double deflation(const sys *S, const double *x, const work *w, double *g)
+{
+    int k = S->k, n = S->n;
+    double lnM = 0.0, s2 = w->dscale * w->dscale;
+    if (g) memset(g, 0, sizeof(double) * (size_t)k);
+    for (int j = 0; j < w->ndefl; j++)
+        for (int sg = 1; sg >= (S->hom ? -1 : 1); sg -= 2) {
+            const double *xj = w->defl + (size_t)j * n;
+            double d2 = 0.0;
+            for (int i = 0; i < k; i++) d2 += (x[i] - sg * xj[i]) * (x[i] - sg * xj[i]);
+            d2 = fmax(d2, 1e-300);
+            double m = s2 / d2 + 1.0;
+            lnM += log(m);
+            if (g)
+                for (int i = 0; i < k; i++) g[i] += -2.0 * s2 * (x[i] - sg * xj[i]) / (d2 * d2) / m;
+        }
+    return lnM;
+}
 
 /* Newton with backtracking on the max-norm of the residual; LU steps,
  * minimum-norm ones where LU fails.  0 when converged. */
-static int sys_newton(const sys *S, double *v, work *w)
+extern void dposv_(const char *uplo, const int *n, const int *nrhs, double *a, const int *lda,
+                   double *b, const int *ldb, int *info);
+
+/* Levenberg-Marquardt on |F|^2 from v (the globalisation where Newton's
+ * line search stalls far from a solution): (J^T J + mu I) d = -J^T F, mu
+ * divided by 3 after a step that lowers |F|, multiplied by 4 otherwise.
+ * Returns when |F|max <= 1e-3 of where it started or after LM_MAXIT
+ * steps; 0 when it lowered the residual. */
+static int sys_lm(const sys *S, double *v, work *w, double *JtJ)
 {
     int n = S->n, one = 1, info;
+    sys_eval(S, v, w->F, w->Jm, w->tmp);
+    double f2 = dot(n, w->F, w->F), f0 = maxabs(w->F, n), mu = 1e-3 * S->scale * S->scale;
+    int improved = 0;
+    for (int it = 0; it < LM_MAXIT; it++) {
+        for (int j = 0; j < n; j++) {
+            w->d[j] = -dot(n, w->Jm + (size_t)j * n, w->F);
+            for (int i = 0; i <= j; i++) JtJ[(size_t)j * n + i] = dot(n, w->Jm + (size_t)i * n, w->Jm + (size_t)j * n);
+            JtJ[(size_t)j * n + j] += mu;
+        }
+        dposv_("U", &n, &one, JtJ, &n, w->d, &n, &info);
+        if (info != 0) { mu *= 4.0; continue; }
+        for (int i = 0; i < n; i++) w->vt[i] = v[i] + w->d[i];
+        sys_eval(S, w->vt, w->tmp + n, NULL, w->tmp);
+        double g2 = dot(n, w->tmp + n, w->tmp + n);
+        if (g2 < f2) {
+            memcpy(v, w->vt, sizeof(double) * (size_t)n);
+            sys_eval(S, v, w->F, w->Jm, w->tmp);
+            f2 = dot(n, w->F, w->F);
+            mu /= 3.0;
+            improved = 1;
+            if (maxabs(w->F, n) <= 1e-3 * f0) break;
+        } else {
+            mu *= 4.0;
+        }
+    }
+    return improved ? 0 : 1;
+}
+
+static int sys_newton(const sys *S, double *v, work *w)
+{
+    int n = S->n, one = 1, info, nlm = 0;
     double tol = SOL_RTOL * fmax(S->scale, S->hom ? 0.0 : maxabs(S->b, S->k));
     for (int it = 0; it < NEWTON_MAXIT; it++) {
         sys_eval(S, v, w->F, w->Jm, w->tmp);
@@ -153,6 +218,16 @@ static int sys_newton(const sys *S, double *v, work *w)
             for (int i = 0; i < n; i++) w->d[i] = -w->F[i];
             if (lstsq(n, n, w->J2, w->d)) return -1;
         }
+        if (w->ndefl > 0) {
+            /* the deflated Newton step d / (1 - grad ln M . d) (the line
+             * search stays on |F|: on M |F| fewer starts converged) */
+            double *g = w->J2;
+            double gd = 0.0;
+            deflation(S, v, w, g);
+            for (int i = 0; i < S->k; i++) gd += g[i] * w->d[i];
+            if (fabs(1.0 - gd) > 1e-12)
+                for (int i = 0; i < n; i++) w->d[i] /= 1.0 - gd;
+        }
         double t = 1.0, et = en;
         for (int bt = 0; bt < 30; bt++, t *= 0.5) {
             for (int i = 0; i < n; i++) w->vt[i] = v[i] + t * w->d[i];
@@ -160,7 +235,11 @@ static int sys_newton(const sys *S, double *v, work *w)
             et = maxabs(w->F, n);
             if (et < en) break;
         }
-        if (!(et < en)) return 1;
+        if (!(et < en)) {
+            /* stalled: Levenberg-Marquardt steps, then Newton again */
+            if (++nlm > LM_ROUNDS || sys_lm(S, v, w, w->JtJ)) return 1;
+            continue;
+        }
         memcpy(v, w->vt, sizeof(double) * (size_t)n);
     }
     sys_eval(S, v, w->F, NULL, w->tmp);
@@ -272,46 +351,107 @@ void sf_flatsw_free(sf_flatsw *F)
     memset(F, 0, sizeof *F);
 }
 
-/* The penalty homotopy from v (a solution at eps = eps0): the second-order
- * conditions relaxed to x^T Q_t x / 2 = eps nu_t, i.e. a penalty of
- * weight 1/eps on them (the paper's penalty, restricted to the cone), eps
- * cut towards 0 (factor 0.3 per level, the step shortened where Newton
- * fails), then eps = 0.  0 when it reaches eps = 0. */
-static int homotopy(sys *S, double *v, double eps0, work *w)
+/* Newton from the start x = v (first k values): multipliers by least
+ * squares, then the (deflated) iteration; a new solution is appended to
+ * *sol (n values each, *ns of *cap) and deflated from then on.  0, or -1
+ * (out of memory, LAPACK failure). */
+static int try_start(const sys *S, double *v, double **solp, int *nsp, int *capp, int *nconv,
+                     double a0, work *w)
 {
-    int n = S->n;
-    double *vk = malloc(sizeof(double) * ((size_t)n + 1));
-    if (!vk) return -1;
-    double eps = eps0, ok = eps0, fac = 0.3, emin = 1e-12 * S->scale;
-    memcpy(vk, v, sizeof(double) * (size_t)n);
-    int rc = 1;
-    for (int level = 0; level < 120; level++) {
-        S->eps = eps;
-        memcpy(v, vk, sizeof(double) * (size_t)n);
-        int nr = sys_newton(S, v, w);
-        if (nr < 0) { rc = -1; break; }
-        if (!nr) {
-            memcpy(vk, v, sizeof(double) * (size_t)n);
-            ok = eps;
-            if (eps == 0.0) { rc = 0; break; }
-            fac = fmax(fac * 0.7, 0.01);
-            eps = eps * fac < emin ? 0.0 : eps * fac;
-        } else {
-            if (eps == 0.0) eps = emin;
-            fac = sqrt(fac);
-            if (fac > 0.999) break;
-            eps = ok * fac;
-        }
+    int k = S->k, n = S->n;
+    if (start_multipliers(S, v, w)) return -1;
+    int nr = sys_newton(S, v, w);
+    if (nr < 0) return -1;
+    if (nr) return 0;
+    (*nconv)++;
+    if (S->hom) {
+        /* sign: the largest component positive */
+        int im = 0;
+        for (int i = 1; i < k; i++) if (fabs(v[i]) > fabs(v[im])) im = i;
+        if (v[im] < 0) for (int i = 0; i < k; i++) v[i] = -v[i];
+    } else if (!(sqrt(dot(k, v, v)) > 1e-9 * a0)) {
+        return 0;
     }
-    S->eps = 0.0;
-    memcpy(v, vk, sizeof(double) * (size_t)n);
-    free(vk);
-    return rc;
+    if (!is_new(S, v, *solp, *nsp)) return 0;
+    w->defl = NULL;   /* sol may move */
+    if (*nsp == *capp) {
+        double *t = realloc(*solp, sizeof(double) * (size_t)(*capp *= 2) * n);
+        if (!t) return -1;
+        *solp = t;
+    }
+    memcpy(*solp + (size_t)*nsp * n, v, sizeof(double) * (size_t)n);
+    (*nsp)++;
+    w->defl = *solp;
+    w->ndefl = *nsp;
+    return 0;
+}
+
+/* The isometries of the crease pattern among the 8 of the square about
+ * the vertices' centroid (rotations by multiples of 90 degrees, the
+ * reflections): those that map every fold onto a fold.  perm[g * nf + f]:
+ * the image of fold f under the g-th found (0: the identity).  Returns
+ * their number. */
+static int pattern_symmetries(const sf_study *st, int *perm)
+{
+    int nf = st->nfolds, nv = st->nvertices, ng = 0;
+    double c[2] = {0, 0}, size = 0.0;
+    for (int i = 0; i < nv; i++) { c[0] += st->vertices[i].x[0] / nv; c[1] += st->vertices[i].x[1] / nv; }
+    for (int i = 0; i < nv; i++)
+        size = fmax(size, fabs(st->vertices[i].x[0] - c[0]) + fabs(st->vertices[i].x[1] - c[1]));
+    double tol = 1e-9 * fmax(size, 1e-300);
+    for (int g = 0; g < 8; g++) {
+        int ok = 1;
+        for (int f = 0; f < nf && ok; f++) {
+            double e[2][2];
+            for (int end = 0; end < 2; end++) {
+                const double *x = st->vertices[end ? st->folds[f].b : st->folds[f].a].x;
+                double X = x[0] - c[0], Y = x[1] - c[1];
+                if (g >= 4) Y = -Y;
+                for (int r = 0; r < g % 4; r++) { double t = X; X = -Y; Y = t; }
+                e[end][0] = X + c[0];
+                e[end][1] = Y + c[1];
+            }
+            int found = -1;
+            for (int h = 0; h < nf && found < 0; h++) {
+                const double *a = st->vertices[st->folds[h].a].x, *b = st->vertices[st->folds[h].b].x;
+                double d1 = fabs(a[0] - e[0][0]) + fabs(a[1] - e[0][1]) + fabs(b[0] - e[1][0]) + fabs(b[1] - e[1][1]);
+                double d2 = fabs(a[0] - e[1][0]) + fabs(a[1] - e[1][1]) + fabs(b[0] - e[0][0]) + fabs(b[1] - e[0][1]);
+                if (d1 <= tol || d2 <= tol) found = h;
+            }
+            if (found < 0) ok = 0;
+            else perm[ng * nf + f] = found;
+        }
+        if (ok) ng++;
+    }
+    return ng;
+}
+
+/* x' = N^T P u (u = N x) for the fold permutation P (perm: nf values),
+ * the shape-mode amplitudes multiplied by msign. */
+static void image(const sf_cone_red *R, const sf_model *m, const int *perm, double msign,
+                  const double *x, double *v, double *u, double *u2)
+{
+    int nq = R->nq, k = R->k;
+    for (int i = 0; i < nq; i++) u[i] = 0.0;
+    for (int c = 0; c < k; c++)
+        for (int i = 0; i < nq; i++) u[i] += R->N[(size_t)c * nq + i] * x[c];
+    for (int f = 0; f < m->nfolds; f++)
+        for (int j = 0; j < m->qn[f]; j++)
+            u2[m->qoff[perm[f]] + j] = (j ? msign : 1.0) * u[m->qoff[f] + j];
+    for (int c = 0; c < k; c++) v[c] = dot(nq, R->N + (size_t)c * nq, u2);
 }
 
 /* Search: solutions v (n values each) into *sols; returns the count. */
-static int search(sys *S, int nstarts, double p0, double plo, double phi, double **sols,
-                  int *nconv, work *w)
+/* The crease pattern's symmetries for orbit completion (search). */
+typedef struct symm {
+    const sf_cone_red *R;
+    const sf_model *m;
+    int ng, *perm;
+    double *u, *u2;       /* nq each */
+} symm;
+
+static int search(const sys *S, int nstarts, double p0, double plo, double phi, const symm *sy,
+                  double **sols, int *nconv, work *w)
 {
     int k = S->k, n = S->n, ns = 0, cap = 16;
     double *sol = malloc(sizeof(double) * (size_t)cap * n);
@@ -332,7 +472,8 @@ static int search(sys *S, int nstarts, double p0, double plo, double phi, double
     }
     unsigned long long st = 0xf1a75e11ULL;
     *nconv = 0;
-    /* homotopy starts: the modes of the pencil, lowest critical load
+    w->dscale = S->hom ? 1.0 : a0;
+    /* extra starts: the modes of the pencil, lowest critical load
      * first, and within a multiple eigenvalue (a symmetric sheet) also the
      * sums and differences of neighbouring modes, whose images under the
      * symmetry the single modes need not reach */
@@ -364,45 +505,31 @@ static int search(sys *S, int nstarts, double p0, double plo, double phi, double
             double an = sqrt(fmax(dot(k, v, w->tmp), 1e-300));
             for (int i = 0; i < k; i++) v[i] *= a0 / an;
         }
-        int nr;
-        if (S->hom && s < nh && USE_HOMOTOPY) {
-            /* a mode of the pencil solves the problem at eps = infinity:
-             * the homotopy from a large eps, nu = h / eps, s its load */
-            double e0 = 1e3 * S->scale;
-            matvec(k, S->Ap, v, w->tmp);
-            double wx = dot(k, v, w->tmp);
-            matvec(k, S->A, v, w->tmp);
-            v[k + S->r] = wx != 0.0 ? -dot(k, v, w->tmp) / wx : 0.0;
-            for (int t = 0; t < S->r; t++) {
-                matvec(k, S->Q + (size_t)t * k * k, v, w->tmp);
-                v[k + t] = 0.5 * dot(k, v, w->tmp) / e0;
+        if (try_start(S, v, &sol, &ns, &cap, nconv, a0, w)) { ns = -1; goto done; }
+    }
+    /* orbit completion: the images of every solution found under the
+     * crease pattern's symmetries (with the shape modes as they are and
+     * reversed) as further starts; whatever Newton reaches from them is a
+     * solution, an image or not */
+    for (int j = 0; j < ns && sy && sy->ng > 1; j++)
+        for (int g = 1; g < sy->ng; g++)
+            for (int ms = 0; ms < 2; ms++) {
+                image(sy->R, sy->m, sy->perm + (size_t)g * sy->m->nfolds, ms ? -1.0 : 1.0,
+                      sol + (size_t)j * n, v, sy->u, sy->u2);
+                if (try_start(S, v, &sol, &ns, &cap, nconv, a0, w)) { ns = -1; goto done; }
             }
-            nr = homotopy(S, v, e0, w);
-        } else {
-            if (start_multipliers(S, v, w)) { ns = -1; goto done; }
-            nr = sys_newton(S, v, w);
-        }
-        if (nr < 0) { ns = -1; goto done; }
-        if (nr) continue;
-        (*nconv)++;
-        if (S->hom) {
-            double ps = p0 + v[k + S->r];
+    w->defl = NULL;
+    w->ndefl = 0;
+    if (S->hom) {
+        /* all were deflated; keep those with p* in the range */
+        int m = 0;
+        for (int j = 0; j < ns; j++) {
+            double ps = p0 + sol[(size_t)j * n + k + S->r];
             if (ps < plo - 1e-12 * (1 + fabs(plo)) || ps > phi + 1e-12 * (1 + fabs(phi))) continue;
-            /* sign: the largest component positive */
-            int im = 0;
-            for (int i = 1; i < k; i++) if (fabs(v[i]) > fabs(v[im])) im = i;
-            if (v[im] < 0) for (int i = 0; i < k; i++) v[i] = -v[i];
-        } else if (!(sqrt(dot(k, v, v)) > 1e-9 * a0)) {
-            continue;
+            memmove(sol + (size_t)m * n, sol + (size_t)j * n, sizeof(double) * (size_t)n);
+            m++;
         }
-        if (!is_new(S, v, sol, ns)) continue;
-        if (ns == cap) {
-            double *t = realloc(sol, sizeof(double) * (size_t)(cap *= 2) * n);
-            if (!t) { ns = -1; goto done; }
-            sol = t;
-        }
-        memcpy(sol + (size_t)ns * n, v, sizeof(double) * (size_t)n);
-        ns++;
+        ns = m;
     }
 done:
     free(v);
@@ -514,7 +641,7 @@ int sf_flatsw_find(sf_equil *eq, double p0, double dp, double eps, double plo, d
         return sf_fail(err, SF_ENOMEM, "%s: flat state: out of memory or a LAPACK failure", path);
     }
     int k = R.k, r = R.r, nq = L0.nq;
-    sys S = {k, r, 0, k + r, R.A, NULL, R.b, R.Q, 0.0, 0.0};
+    sys S = {k, r, 0, k + r, R.A, NULL, R.b, R.Q, 0.0};
     S.scale = maxabs(R.A, k * k);
     F->k = k;
     F->r = r;
@@ -541,7 +668,7 @@ int sf_flatsw_find(sf_equil *eq, double p0, double dp, double eps, double plo, d
         S.Ap = Ap;
         if (!(maxabs(Ap, k * k) > 1e-12 * S.scale)) goto done;   /* p does not act on the flat state */
     }
-    int n = S.n, m = (k > n ? k : n) + nq + 1;
+    int n = S.n, m = 2 * (k + n) + nq + 1;
     w.F = malloc(sizeof(double) * (size_t)m);
     w.Jm = malloc(sizeof(double) * ((size_t)n * n + 1));
     w.J2 = malloc(sizeof(double) * ((size_t)n * n + 1));
@@ -550,11 +677,24 @@ int sf_flatsw_find(sf_equil *eq, double p0, double dp, double eps, double plo, d
     w.tmp = malloc(sizeof(double) * (size_t)m);
     w.a = malloc(sizeof(double) * ((size_t)k * (r + 1) + 1));
     w.ipiv = malloc(sizeof(int) * (size_t)m);
-    if (!w.F || !w.Jm || !w.J2 || !w.d || !w.vt || !w.tmp || !w.a || !w.ipiv) {
+    w.JtJ = malloc(sizeof(double) * ((size_t)n * n + 1));
+    if (!w.F || !w.Jm || !w.J2 || !w.d || !w.vt || !w.tmp || !w.a || !w.ipiv || !w.JtJ) {
         rc = sf_fail(err, SF_ENOMEM, "out of memory");
         goto done;
     }
-    ns = search(&S, nstarts, p0, plo, phi, &sol, &nconv, &w);
+    symm sy = {&R, eq->m, 0, NULL, NULL, NULL};
+    sy.perm = malloc(sizeof(int) * ((size_t)8 * eq->m->nfolds + 1));
+    sy.u = malloc(sizeof(double) * ((size_t)nq + 1));
+    sy.u2 = malloc(sizeof(double) * ((size_t)nq + 1));
+    if (!sy.perm || !sy.u || !sy.u2) {
+        free(sy.perm); free(sy.u); free(sy.u2);
+        rc = sf_fail(err, SF_ENOMEM, "out of memory");
+        goto done;
+    }
+    sy.ng = pattern_symmetries(eq->m->study, sy.perm);
+    F->nsym = sy.ng;
+    ns = search(&S, nstarts, p0, plo, phi, &sy, &sol, &nconv, &w);
+    free(sy.perm); free(sy.u); free(sy.u2);
     if (ns < 0) { rc = sf_fail(err, SF_ENOMEM, "%s: flat state: out of memory or a LAPACK failure", path); goto done; }
     F->nconv = nconv;
     key = malloc(sizeof(double) * ((size_t)ns + 1));
@@ -594,7 +734,7 @@ int sf_flatsw_find(sf_equil *eq, double p0, double dp, double eps, double plo, d
     }
     if (classify(F)) rc = sf_fail(err, SF_ENOMEM, "out of memory");
 done:
-    free(w.F); free(w.Jm); free(w.J2); free(w.d); free(w.vt); free(w.tmp); free(w.a); free(w.ipiv);
+    free(w.F); free(w.Jm); free(w.J2); free(w.d); free(w.vt); free(w.tmp); free(w.a); free(w.ipiv); free(w.JtJ);
     free(sol);
     free(Ap);
     free(key);
@@ -640,8 +780,8 @@ int sf_flatsw_follow(sf_bif *b, cont_solver *cs, const sf_flatsw *F, double p0,
     }
     note(b, "flat state (p = %.10g): %d solutions of the reduced second-order equations on the "
          "tangent cone (%d first-order motions, %d second-order forms; %d of %d Newton starts "
-         "converged), %d classes of symmetric images; %s", p0, F->nsol, F->k, F->r, F->nconv,
-         F->nstarts, F->ncls, F->homogeneous ? "each leaves the flat branch at its own p*, "
+         "converged, then images under %d symmetries of the crease pattern), %d classes of "
+         "symmetric images; %s", p0, F->nsol, F->k, F->r, F->nconv, F->nstarts, F->nsym - 1, F->ncls, F->homogeneous ? "each leaves the flat branch at its own p*, "
          "both halves followed" : "each followed from the flat state");
     for (int j = 0; j < F->nsol; j++)
         note(b, "  cone solution %d: p* = %.10g, energy %.6g, class %d, residual %.2g, "

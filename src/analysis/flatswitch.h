@@ -15,10 +15,14 @@
  *       (A(p*) + sum_t nu_t Q_t) x = 0,   x^T Q_t x / 2 = 0,   |x| = 1,
  *   the critical points of the Rayleigh quotient of the stiffness on the
  *   cone; A(p) is affine in p (dead loads), A(p) = A0 + (p - p0) Ap.
- * The unknowns (x, nu[, p*]) are as many as the equations; every solution
- * (stable or not) is found by Newton from nstarts pseudo-random starts
- * (fixed seed, reproducible; the driving's response is the first), kept
- * when new (x differs by more than 1e-6 relative, up to sign in the
+ * The unknowns (x, nu[, p*]) are as many as the equations; solutions
+ * (stable or not) are sought by Newton (Levenberg-Marquardt steps where its
+ * line search stalls; deflation of the solutions already found, Farrell,
+ * Birkisson & Funke 2015) from nstarts pseudo-random starts (fixed seed,
+ * reproducible; first the driving's response, or the modes of the pencil
+ * -Ap x = mu A x with sums and differences within multiple ones).  The
+ * search is not exhaustive.  Kept
+ * when new (x differs by more than 1e-4 relative, up to sign in the
  * homogeneous case) and, homogeneous, when p* lies in [plo, phi].
  * Distinct solutions are grouped into classes of symmetric images (same
  * p*, energy and sorted |u|: the sheet's symmetries permute the folds and
@@ -43,6 +47,7 @@ typedef struct sf_flatsw {
     int k, r;             /* first-order motions, independent second-order forms */
     int nstarts;          /* Newton starts tried */
     int nconv;            /* starts that converged (any solution) */
+    int nsym;             /* isometries of the crease pattern used (identity included) */
     int nsol;             /* distinct solutions kept */
     int ncls;             /* classes of symmetric images among them */
     int n, nq;            /* unknowns of the equilibrium problem, coordinates */
