@@ -1,0 +1,39 @@
+/* flatstart_sparse.h - a scalable start of an exact path at the flat state
+ * in the face-pose formulation (analysis.flat_start = "sparse", see the
+ * comment at the top of flatstart_sparse.c and docs/flatstart.md).  No
+ * dense array: one sparse LDL^T (MUMPS, ldlt.h) of the KKT matrix at the
+ * flat state, then the continuation engine's own corrector. */
+#ifndef SF_FLATSTART_SPARSE_H
+#define SF_FLATSTART_SPARSE_H
+
+#include "equilibrium.h"
+#include "flatstart.h"
+
+struct cont_solver;
+
+/* The driving's direction at the flat state y0 (q->n values, the flat sheet
+ * lifted to poses) and p0: u = -Jy^-1 Fp (q->n values: fold coordinates,
+ * poses, multipliers), the response of the bending energy to the driving
+ * projected on the first-order kernel of the fold rows (the -eps D block of
+ * the Jacobian regularises the rows that are redundant there).  nnull (may
+ * be NULL) receives MUMPS's null pivots.  SF_OK, SF_ENUMERIC (the
+ * factorisation failed or u is not finite), SF_ENOMEM. */
+int sf_flat_direction(sf_equil *q, const double *y0, double p0, double *u, int *nnull,
+                      sf_error *err);
+
+/* Start the solver cs (created for q, face poses, exact) off the flat
+ * state y0 (the flat sheet, lifted), which solves the problem at p0:
+ * a finite step along the driving's direction u (sf_flat_direction),
+ * signed by dir, of angle rad on the largest fold angle (capped so that p
+ * stays within max_dp of p0), corrected with p free on the hyperplane
+ * orthogonal to the step (cont_start_tangent); on failure the step is
+ * halved up to 4 times.  Folds whose angle the driving leaves at zero to
+ * first order (a driving that selects no sign for them) take the sign of
+ * their declared assignment (folds[].assignment) when there is one; info
+ * says so.  y (q->n) receives the start point (y may be y0).  On failure SF_ENUMERIC
+ * with a diagnosis naming what to try. */
+int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const double *y0, double p0,
+                                double max_dp, int dir, double angle, double tol, double *y,
+                                sf_flatstart_info *info, sf_error *err);
+
+#endif
