@@ -22,18 +22,26 @@
  *    assignment (folds[].assignment, "M" < 0, "V" > 0) that sign is added
  *    to u at 1e-3 of the largest angle, a declared imperfection; otherwise
  *    the note says that the driving leaves them undetermined.
- * 3. First point.  A finite step along (u, 1) (the largest fold angle moves
- *    by `angle` rad, e.g. 0.05, not 1e-6: next to the singular point the
- *    corrector stalls), the poses lifted from the folds, then Newton on the
- *    full problem with p free on the hyperplane through that point
- *    orthogonal to the step (cont_start_tangent: the arclength equation of
- *    the engine).  The hyperplane cuts the branch that leaves the flat
- *    state near u, away from the singular point.  On failure the step is
- *    halved (4 times at most), then the start stops with a diagnosis.
- * 4. Check.  The point's fold-row residual and distance from the flat
- *    state are checked (a corrector that came back to the flat sheet is a
- *    failure); the engine then continues from it with its own tangent,
- *    oriented along the step.
+ * 3. Mode amplitudes.  Along the branches of a sheet with shape modes
+ *    (K >= 1) the modes' amplitudes are of the order of the fold angles,
+ *    but the driving does not move them to first order (u has none): a
+ *    state and its mirror in the modes have the same energy.  A declared
+ *    imperfection selects one: every mode amplitude starts at -1e-2 times
+ *    the largest fold angle.
+ * 4. First point.  A finite step along u (the largest fold angle moves by
+ *    `angle` rad, e.g. 0.05, not 1e-6: next to the singular point Newton
+ *    stalls), poses lifted from the folds, then Newton on the full problem
+ *    at the fixed p of the step's end, with an inertia correction: while
+ *    the KKT matrix (MUMPS) has more negative pivots than constraint rows,
+ *    a shift on the coordinates makes the step descend (away from saddles,
+ *    e.g. the symmetric state), and the fold coordinates move by at most a
+ *    quarter of the step per iteration.  A converged state whose inertia
+ *    says unstable is pushed off again (pseudo-random mode amplitudes,
+ *    fixed seeds, 4 times at most).  On failure the step is halved (4
+ *    times at most), then the start stops with a diagnosis.
+ * 5. Check and hand-over.  cont_start polishes the point at that p and
+ *    takes the engine's tangent there (direction dir); a point that came
+ *    back to the flat sheet is a failure.
  */
 #include "flatstart_sparse.h"
 
@@ -189,6 +197,23 @@ static int select_signs(const sf_equil *q, double *u, int *declared)
     return nzero;
 }
 
+/* The declared imperfection of the mode amplitudes (the driving leaves
+ * their signs open: a state and its mirror in the modes have the same
+ * energy): push = 0, every mode amplitude moved by -rel times the largest
+ * fold angle of y; push > 0 (a converged saddle pushed off again),
+ * pseudo-random signs and sizes, fixed seeds. */
+static void perturb_modes(const sf_model *m, double *y, double rel, int push)
+{
+    double mx = max_angle(m, y);
+    unsigned long seed = 12345u + 7919u * (unsigned long)push;
+    for (int i = 0; i < m->nfolds; i++)
+        for (int k = 1; k < m->qn[i]; k++) {
+            seed = seed * 6364136223846793005ul + 1442695040888963407ul;
+            double r = (double)(seed >> 11) / 9007199254740992.0;   /* [0, 1) */
+            y[m->qoff[i] + k] += rel * mx * (push ? 2.0 * r - 1.0 : -1.0);
+        }
+}
+
 /* Newton at fixed p from y (updated in place) with an inertia
  * correction: while the KKT matrix has more negative pivots than
  * constraint rows (each row, regularised, gives one), i.e. the Hessian is
@@ -200,7 +225,7 @@ static int select_signs(const sf_equil *q, double *u, int *declared)
 static int descent(sf_equil *q, kkt_ws *w, double *y, double p, double tol, double cap, int maxit,
                    int *iters, double *fres, sf_error *err)
 {
-    int n = q->n, nq = q->m->nq, rc = 1;
+    int n = q->n, nq = q->m->nq, rc = 1, pushes = 0;
     double *F = malloc(sizeof(double) * (size_t)n), *Fp = malloc(sizeof(double) * (size_t)n);
     if (!F || !Fp) {
         rc = sf_fail(err, SF_ENOMEM, "out of memory");
@@ -212,14 +237,18 @@ static int descent(sf_equil *q, kkt_ws *w, double *y, double p, double tol, doub
         double fs = 0.0;
         for (int i = 0; i < n; i++) fs = fmax(fs, fabs(F[i] * q->fscale[i]));
         *fres = fs;
-        if (fs <= tol) {
-            rc = 0;
-            break;
-        }
         double delta = 0.0;
         int neg = 0;
         for (int k = 0; k < 40; k++) {
             if (ws_factor(w, q, y, p, delta, Fp, &neg, err)) goto out;
+            if (k == 0 && fs <= tol) {
+                if (neg <= q->ncon) {   /* converged to a stable state */
+                    rc = 0;
+                    goto out;
+                }
+                if (++pushes > 4) goto out;   /* a saddle: pushed off again */
+                perturb_modes(q->m, y, 1e-2, pushes);
+            }
             if (neg <= q->ncon) break;
             delta = delta > 0 ? 4.0 * delta : 1e-6;
         }
@@ -237,20 +266,6 @@ out:
     return rc;
 }
 
-/* A declared imperfection of the mode amplitudes: rel times the largest
- * fold angle of y, pseudo-random signs and sizes (fixed seed). */
-static void perturb_modes(const sf_model *m, double *y, double rel)
-{
-    double mx = max_angle(m, y);
-    unsigned long seed = 12345u;
-    for (int i = 0; i < m->nfolds; i++)
-        for (int k = 1; k < m->qn[i]; k++) {
-            seed = (seed * 6364136223846793005ul + 1442695040888963407ul);
-            double r = (double)(seed >> 11) / 9007199254740992.0;   /* [0, 1) */
-            y[m->qoff[i] + k] += rel * mx * (2.0 * r - 1.0);
-        }
-}
-
 /* One attempt: the step h along (dir u, dir) from the flat state, poses
  * lifted, solved at p0 + dir h by descent(), then cont_start there.  0 on
  * success. */
@@ -261,11 +276,13 @@ static int attempt(sf_equil *q, struct cont_solver *cs, kkt_ws *w, const double 
     int n = q->n, nq = q->m->nq, nx = q->nq;
     memcpy(y, y0, sizeof(double) * (size_t)n);
     for (int i = 0; i < nq; i++) y[i] += h * dir * u[i];
-    perturb_modes(q->m, y, 1e-2);
+    perturb_modes(q->m, y, 1e-2, 0);
     sf_equil_poses_lift(q, y);
     for (int i = nx; i < n; i++) y[i] = y0[i] + h * dir * u[i];
     double fres = INFINITY;
-    if (descent(q, w, y, p0 + dir * h, tol, 0.1, 100, iters, &fres, err)) {
+    /* fold coordinates move by at most a quarter of the step per iteration */
+    double cap = 0.25 * h * max_angle(q->m, u);
+    if (descent(q, w, y, p0 + dir * h, fmax(tol, 1e-9), cap, 100, iters, &fres, err)) {
         if (!err->code) sf_fail(err, SF_ENUMERIC, "Newton with inertia correction at p = %g: scaled "
                                 "residual %.3g after %d iterations", p0 + dir * h, fres, *iters);
         return 1;
@@ -345,8 +362,8 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
         snprintf(info->note, sizeof info->note,
                  "flat start (sparse): the driving's response projected on the first-order "
                  "kernel (MUMPS LDL^T, %d null pivots), a step of %.3g in p, %d Newton iterations "
-                 "with inertia correction from a declared imperfection of the mode amplitudes "
-                 "(1e-2, fixed seed), first point at p = %.6g, largest fold angle %.4g rad, "
+                 "with inertia correction from a declared imperfection (every mode amplitude "
+                 "-1e-2 times the largest fold angle), first point at p = %.6g, largest fold angle %.4g rad, "
                  "fold-row residual %.2g, %d step halvings%s", nnull, h, its, pt->p,
                  max_angle(m, pt->y), fmax(rr, rt), halvings, signs);
     }

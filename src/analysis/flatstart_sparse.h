@@ -22,16 +22,18 @@ int sf_flat_direction(sf_equil *q, const double *y0, double p0, double *u, int *
                       sf_error *err);
 
 /* Start the solver cs (created for q, face poses, exact) off the flat
- * state y0 (the flat sheet, lifted), which solves the problem at p0:
- * a finite step along the driving's direction u (sf_flat_direction),
- * signed by dir, of angle rad on the largest fold angle (capped so that p
- * stays within max_dp of p0), corrected with p free on the hyperplane
- * orthogonal to the step (cont_start_tangent); on failure the step is
- * halved up to 4 times.  Folds whose angle the driving leaves at zero to
- * first order (a driving that selects no sign for them) take the sign of
- * their declared assignment (folds[].assignment) when there is one; info
- * says so.  y (q->n) receives the start point (y may be y0).  On failure SF_ENUMERIC
- * with a diagnosis naming what to try. */
+ * state y0 (the flat sheet, lifted), which solves the problem at p0: a
+ * finite step along the driving's direction u (sf_flat_direction), signed
+ * by dir, of angle rad on the largest fold angle (its p-step capped at
+ * max_dp when > 0), with the declared imperfection of the mode amplitudes,
+ * solved at that p by Newton with an inertia correction, then cont_start
+ * there (steps 2-5 at the top of flatstart_sparse.c); on failure the step
+ * is halved up to 4 times.  Folds whose angle the driving leaves at zero
+ * to first order take the sign of their declared assignment
+ * (folds[].assignment) when there is one; info->note says what was done.
+ * y (q->n) receives the start point (y may be y0).  tol: the Newton
+ * tolerance (scaled residual).  On failure SF_ENUMERIC with a diagnosis
+ * naming what to try. */
 int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const double *y0, double p0,
                                 double max_dp, int dir, double angle, double tol, double *y,
                                 sf_flatstart_info *info, sf_error *err);
