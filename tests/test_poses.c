@@ -41,15 +41,11 @@
 static SUNContext sun_ctx;
 static char tests_dir[1024];
 
-/* Analytic A against differences F entry by entry: |A - F| <= 1e-6
- * max(|F|, 1e-3 max|F|) as in test_energy.c (and an absolute floor for
- * all-zero blocks). */
+/* check_fd (sf_test.h) with an absolute floor of 1e-12 for blocks that
+ * are zero by structure. */
 static void compare(const double *A, const double *F, size_t n, const char *what)
 {
-    double scale = maxabs(F, n);
-    for (size_t i = 0; i < n; i++)
-        CHECK_CLOSE(A[i], F[i], 1e-6 * fmax(fabs(F[i]), 1e-3 * scale) + 1e-12,
-                    "%s entry %zu", what, i);
+    check_fd(A, F, n, 1e-12, what);
 }
 
 /* ------------------------------------------------------------ rotations */
