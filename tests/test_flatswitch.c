@@ -5,9 +5,9 @@
  * Independent values:
  *  - the symmetry group of the square, D4, built from the study's geometry
  *    as permutations of its folds (as in test_multibp.c), and the flip
- *    z -> -z (q -> -q): two cone solutions the program puts in one class
- *    of symmetric images must be D4 images of each other (the images
- *    found of each are printed: the search is not complete);
+ *    z -> -z (q -> -q): the set of cone solutions found is closed under
+ *    D4, each class of symmetric images is one D4 orbit, of a size that
+ *    divides 8 (the orbit-stabiliser theorem);
  *  - the residual of the full equilibrium problem (scaled, <= 1e-9) along
  *    every branch started from the cone solutions, off the flat state;
  *  - the nu = 0 buckling load of the flat sheet (0.29181, the minimum of
@@ -94,10 +94,11 @@ static void test_square4(void **state)
         CHECK_LE(0.2918, F.pstar[j], "cone solution %d: p*", j + 1);
         for (int f = 0; f < nf; f++) th[(size_t)j * nf + f] = F.u[(size_t)j * nq + sc.model.qoff[f]];
     }
-    /* the program's classes of symmetric images (same p*, sorted |u|) are
-     * D4 images of each other, checked with the geometric permutations;
-     * how many images of each the search found is printed (the search is
-     * not complete: docs/bifurcation.md) */
+    /* the set found is closed under D4 (each solution's image under each
+     * element is a solution at the same p*), and the program's classes of
+     * symmetric images (same p*, sorted |u|) are the D4 orbits, of sizes
+     * dividing 8 (8 / |stabiliser|), checked with the test's own
+     * geometric permutations */
     for (int j = 0; j < F.nsol; j++) {
         int found = 0;
         for (int g = 0; g < NG; g++)
@@ -110,6 +111,13 @@ static void test_square4(void **state)
         for (int g = 0; g < NG; g++) ng += (found >> g) & 1;
         print_message("# cone solution %d: p* = %.10f, class %d, images found under %d of the 8 elements of D4\n",
                       j + 1, F.pstar[j], F.cls[j] + 1, ng);
+        /* closed under D4: the image under every element is a solution
+         * found at the same p*; so the class is the whole orbit */
+        assert_int_equal(ng, NG);
+        int size = 0;
+        for (int i = 0; i < F.nsol; i++) size += F.cls[i] == F.cls[j];
+        if (NG % size != 0) print_error("class of cone solution %d: %d rays, not a divisor of 8\n", j + 1, size);
+        assert_int_equal(NG % size, 0);
         for (int i = 0; i < F.nsol; i++) {
             if (F.cls[i] != F.cls[j]) continue;
             int same = 0;
@@ -130,7 +138,7 @@ static void test_square4(void **state)
         int st = cont_start_tangent(cs, F.y + (size_t)i * n, F.p[i], F.ty + (size_t)i * n, F.tp[i]);
         if (st != CONT_OK) print_error("branch %d: %s\n", i, cont_errmsg(cs));
         assert_int_equal(st, CONT_OK);
-        for (int step = 0; step <= 6; step++) {
+        for (int step = 0; step <= 4; step++) {
             const cont_point *pt = cont_get_point(cs);
             assert_int_equal(sf_equil_residual(pt->y, pt->p, Fr, &eq), 0);
             double r = 0.0, amp = 0.0;
@@ -138,7 +146,7 @@ static void test_square4(void **state)
             for (int k = 0; k < nq; k++) amp = fmax(amp, fabs(pt->y[k]));
             CHECK_LE(r, 1e-9, "branch %d, point %d: scaled residual", i, step);
             CHECK_LE(1e-3, amp, "branch %d, point %d: off the flat state", i, step);
-            if (step < 6) assert_int_equal(cont_step(cs), CONT_CONTINUE);
+            if (step < 4) assert_int_equal(cont_step(cs), CONT_CONTINUE);
         }
     }
     cont_free(cs);
