@@ -10,7 +10,7 @@
 # wall time, wall time per Newton iteration, peak memory (/usr/bin/time -v),
 # exit status; then the fitted exponent of the time per Newton iteration
 # against the unknowns (least squares in log-log over the sizes that ran).
-# Environment: SIZES (default "2 4 8 16 31"), STEPS, TIMEOUT, FORMULATION
+# Environment: K (fold modes, default 1), SIZES (default "2 4 8 16 31"), STEPS, TIMEOUT, FORMULATION
 # (default poses; "folds" for the fold formulation, with the limit start).
 src=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$src}
@@ -26,7 +26,7 @@ start=direct
 echo "| m | folds | unknowns | nonzeros | nnz/fold | points | p reached | Newton | wall [s] | s/Newton | peak MB | status |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 for m in $sizes; do
-    "$src/bench/miura-study.sh" "$m" load > "$tmp/m$m.cfg"
+    "$src/bench/miura-study.sh" "$m" load "${K:-1}" > "$tmp/m$m.cfg"
     /usr/bin/time -v -o "$tmp/time$m" timeout "$tmo" "$bin" run "$tmp/m$m.cfg" -q \
         --set analysis.stability=false --set analysis.max_steps="$steps" \
         --set analysis.flat_start=\""$start"\" --set solver.formulation=\""$form"\" \

@@ -40,6 +40,7 @@ include tests/bifurcation.mk
 include tests/pattern.mk
 include tests/boundary.mk
 include tests/multibp.mk
+include tests/creaselimit.mk
 # sweeps, serially and under mpirun (src/analysis/sweep.h, docs/sweep.md)
 check_PROGRAMS += tests/test_sweep_plan
 TESTS += tests/test_sweep_plan tests/test_sweep.sh

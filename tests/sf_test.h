@@ -82,4 +82,16 @@ static inline double maxabs(const double *a, size_t n)
     return m;
 }
 
+/* Analytic A (n entries) against finite differences F, entry by entry:
+ * |A_i - F_i| <= 1e-6 max(|F_i|, 1e-3 max|F|) + floor, the floor an
+ * absolute bound for entries that are zero by structure. */
+static inline void check_fd(const double *A, const double *F, size_t n, double floor,
+                            const char *what)
+{
+    double scale = maxabs(F, n);
+    for (size_t i = 0; i < n; i++)
+        CHECK_CLOSE(A[i], F[i], 1e-6 * fmax(fabs(F[i]), 1e-3 * scale) + floor,
+                    "%s entry %zu", what, i);
+}
+
 #endif

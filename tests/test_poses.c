@@ -41,15 +41,11 @@
 static SUNContext sun_ctx;
 static char tests_dir[1024];
 
-/* Analytic A against differences F entry by entry: |A - F| <= 1e-6
- * max(|F|, 1e-3 max|F|) as in test_energy.c (and an absolute floor for
- * all-zero blocks). */
+/* check_fd (sf_test.h) with an absolute floor of 1e-12 for blocks that
+ * are zero by structure. */
 static void compare(const double *A, const double *F, size_t n, const char *what)
 {
-    double scale = maxabs(F, n);
-    for (size_t i = 0; i < n; i++)
-        CHECK_CLOSE(A[i], F[i], 1e-6 * fmax(fabs(F[i]), 1e-3 * scale) + 1e-12,
-                    "%s entry %zu", what, i);
+    check_fd(A, F, n, 1e-12, what);
 }
 
 /* ------------------------------------------------------------ rotations */
@@ -420,14 +416,16 @@ static void test_formulations_agree(void **state)
 
 /* ------------------------------------------------------------ nonzeros */
 
-static long nnz_of(const char *name, int *nfolds)
+/* Nonzeros of the KKT pattern of a study (with overrides); its fold
+ * count, and whether gravity and point loads are in it. */
+static long nnz_of(const char *name, int nset, const char **sets, int *nfolds, int *loaded)
 {
     sf_scene sc;
     char path[1200];
     snprintf(path, sizeof path, "%s/%s.cfg", tests_dir, name);
     sf_error err;
     sf_error_clear(&err);
-    if (sf_scene_open(&sc, path, 0, NULL, &err)) {
+    if (sf_scene_open(&sc, path, nset, sets, &err)) {
         print_error("%s: %s\n", path, err.msg);
         fail();
     }
@@ -436,6 +434,7 @@ static long nnz_of(const char *name, int *nfolds)
     assert_int_equal(sf_equil_use_poses(&eq, &err), SF_OK);
     long nnz = sf_equil_poses_nnz(&eq);
     *nfolds = sc.model.nfolds;
+    *loaded = sc.study.gravity_on && sc.study.nloads > 0;
     sf_equil_free(&eq);
     sf_scene_close(&sc);
     return nnz;
@@ -444,8 +443,11 @@ static long nnz_of(const char *name, int *nfolds)
 static void test_nonzeros_linear(void **state)
 {
     (void)state;
-    int n2, n4;
-    long z2 = nnz_of("miura2", &n2), z4 = nnz_of("miura4", &n4);
+    int n2, n4, l2, l4, u2, u4;
+    /* miura2 and miura4 carry gravity (faces and bands) and a point load:
+     * their patterns count every effect */
+    long z2 = nnz_of("miura2", 0, NULL, &n2, &l2), z4 = nnz_of("miura4", 0, NULL, &n4, &l4);
+    assert_true(l2 && l4);
     print_message("# nonzeros: miura2 %d folds %ld, miura4 %d folds %ld (%.1f and %.1f per fold)\n",
                   n2, z2, n4, z4, (double)z2 / n2, (double)z4 / n4);
     assert_true(n4 > 3 * n2);
@@ -453,6 +455,16 @@ static void test_nonzeros_linear(void **state)
      * only), far from the quadratic growth of a dense pattern */
     double r2 = (double)z2 / n2, r4 = (double)z4 / n4;
     CHECK_LE(fabs(r4 - r2) / r2, 0.15, "nonzeros per fold %g vs %g", r2, r4);
+    /* MODEL.md 9: a point load or a face's weight acts on its face's pose
+     * alone, a band's weight on its right face's pose and its fold, blocks
+     * the fold rows already hold: without gravity and loads the pattern
+     * is the same, at both sizes */
+    const char *bare[] = {"gravity.enabled=false", "loads=()"};
+    long b2 = nnz_of("miura2", 2, bare, &n2, &u2), b4 = nnz_of("miura4", 2, bare, &n4, &u4);
+    assert_false(u2 || u4);
+    print_message("# nonzeros without gravity and loads: miura2 %ld, miura4 %ld\n", b2, b4);
+    assert_int_equal(b2, z2);
+    assert_int_equal(b4, z4);
 }
 
 int main(void)

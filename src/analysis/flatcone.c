@@ -55,14 +55,7 @@ extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, 
 #define SAME_TOL 1e-3     /* two solutions are one when closer (A norm, relative): a flat valley of the energy converges to ~1e-6 only */
 #define STAB_TOL 1e-9     /* smallest reduced eigenvalue of a stable branch (relative) */
 
-typedef struct red {
-    int nq, k, r, n1, n2;
-    double *N;   /* nq x k, column-major */
-    double *A;   /* k x k */
-    double *b;   /* k */
-    double *Q;   /* r forms k x k */
-    double *W;   /* n2 x r, column-major */
-} red;
+typedef sf_cone_red red;   /* flatcone.h */
 
 static void red_free(red *R)
 {
@@ -700,4 +693,12 @@ done:
     red_free(&R);
     if (rc) sf_cone_free(c);
     return rc;
+}
+
+/* ---- the reduction for other modules (flatcone.h; flatswitch.c) ---- */
+int sf_cone_reduce(const sf_limit *L, sf_cone_red *R) { return red_build(L, R); }
+void sf_cone_reduce_free(sf_cone_red *R) { red_free(R); }
+int sf_cone_to_limit(const sf_limit *L, const sf_cone_red *R, const double *v, double *z)
+{
+    return to_full(L, R, v, z);
 }

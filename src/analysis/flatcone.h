@@ -41,6 +41,26 @@ typedef struct sf_cone {
 int sf_cone_find(const sf_limit *L, int nstarts, const double *zextra, sf_cone *c);
 void sf_cone_free(sf_cone *c);
 
+/* The reduction onto the kernel of the first-order rows (steps 1-2 of
+ * flatcone.c): u = N x, A = N^T H0 N, b = N^T gp, r independent unit
+ * forms Q'_t spanning the Q_s = N^T G_s N, with nu = W nu'. */
+typedef struct sf_cone_red {
+    int nq, k, r, n1, n2;
+    double *N;   /* nq x k, column-major */
+    double *A;   /* k x k */
+    double *b;   /* k */
+    double *Q;   /* r forms k x k */
+    double *W;   /* n2 x r, column-major */
+} sf_cone_red;
+
+/* Build it (0, or -1: out of memory or a LAPACK failure); free with
+ * sf_cone_reduce_free.  sf_cone_to_limit: the limit problem's
+ * z = (u, mu, nu) (L->n values) from v = (x, nu') (k + r), mu by least
+ * squares on the stationarity rows with L's H0 and gp; 0 or -1. */
+int sf_cone_reduce(const sf_limit *L, sf_cone_red *R);
+void sf_cone_reduce_free(sf_cone_red *R);
+int sf_cone_to_limit(const sf_limit *L, const sf_cone_red *R, const double *v, double *z);
+
 /* Residual max-norm of the limit problem at z with eps = 0 (flatstart.c). */
 double sf_limit_residual(const sf_limit *L, const double *z);
 

@@ -63,7 +63,7 @@ extern void dgelss_(const int *m, const int *n, const int *nrhs, double *a, cons
 
 typedef sf_limit limit_problem;
 
-static void limit_free(limit_problem *L)
+void sf_limit_free(sf_limit *L)
 {
     free(L->H0);
     free(L->gp);
@@ -262,8 +262,8 @@ static void rows_hessian_add(sf_equil *q, const double *w, double *H)
     }
 }
 
-/* Build the limit problem at the flat state q = 0, parameter p0. */
-static int limit_build(sf_equil *q, double p0, limit_problem *L, sf_error *err)
+/* Build the limit problem at the flat state q = 0, parameter p0 (flatstart.h). */
+int sf_limit_build(sf_equil *q, double p0, sf_limit *L, sf_error *err)
 {
     const sf_model *m = q->m;
     int nq = q->nq, nc = q->ncon;
@@ -363,7 +363,7 @@ done:
     free(lam);
     free(grad);
     free(Hs);
-    if (rc) limit_free(L);
+    if (rc) sf_limit_free(L);
     return rc;
 }
 
@@ -519,6 +519,20 @@ static int cone_start(sf_equil *q, const sf_limit *L, int pick, double *z, doubl
     return rc;
 }
 
+/* (flatstart.h) */
+void sf_limit_to_state(const sf_equil *q, const sf_limit *L, const double *z, double dp, double *y)
+{
+    int nq = L->nq, n1 = L->n1, nc = L->ncon;
+    memset(y, 0, sizeof(double) * (size_t)q->n);
+    for (int j = 0; j < nq; j++) y[j] = dp * z[j];
+    for (int r = 0; r < nc; r++) {
+        double f = row_scale(q, r), v = 0.0;
+        for (int c = 0; c < n1; c++) v += L->U[(size_t)c * nc + r] * dp * z[nq + c];
+        for (int s = 0; s < L->n2; s++) v += L->U[(size_t)(n1 + s) * nc + r] * z[nq + n1 + s];
+        y[nq + r] = q->kref * f * v;
+    }
+}
+
 int sf_equil_start_limit(sf_equil *q, double p0, double p1, double *y, sf_flatstart_info *info,
                          sf_error *err)
 {
@@ -534,8 +548,8 @@ int sf_equil_start_limit_branch(sf_equil *q, double p0, double p1, int branch, d
     if (q->ncon == 0)
         return sf_fail(err, SF_EINPUT, "%s: the limit start needs constraint rows", m->study->path);
     limit_problem L;
-    if (limit_build(q, p0, &L, err)) return err->code;
-    int n = L.n, nq = L.nq, n1 = L.n1, nc = L.ncon;
+    if (sf_limit_build(q, p0, &L, err)) return err->code;
+    int n = L.n, n1 = L.n1;
     double *z = calloc((size_t)n + 1, sizeof(double));
     int rc = SF_OK;
     if (!z) {
@@ -569,18 +583,10 @@ int sf_equil_start_limit_branch(sf_equil *q, double p0, double p1, int branch, d
         goto done;
     }
     /* back to the unknowns of the exact problem at p1 */
-    double dp = p1 - p0;
-    memset(y, 0, sizeof(double) * (size_t)q->n);
-    for (int j = 0; j < nq; j++) y[j] = dp * z[j];
-    for (int r = 0; r < nc; r++) {
-        double f = row_scale(q, r), v = 0.0;
-        for (int c = 0; c < n1; c++) v += L.U[(size_t)c * nc + r] * dp * z[nq + c];
-        for (int s = 0; s < L.n2; s++) v += L.U[(size_t)(n1 + s) * nc + r] * z[nq + n1 + s];
-        y[nq + r] = q->kref * f * v;
-    }
+    sf_limit_to_state(q, &L, z, p1 - p0, y);
 done:
     free(z);
-    limit_free(&L);
+    sf_limit_free(&L);
     return rc;
 }
 

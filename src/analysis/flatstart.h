@@ -38,6 +38,17 @@ void sf_limit_free_G(sf_limit *L);
  * eps = 0), -1 when out of memory.  iters may be NULL. */
 double sf_limit_solve(const sf_limit *L, double *z, int maxit, int *iters);
 
+/* Build the limit problem at the flat state q = 0 and parameter p0 (the
+ * exact loop rows of q split into first- and second-order combinations);
+ * free with sf_limit_free.  Used by flatstart.c and flatswitch.c. */
+int sf_limit_build(sf_equil *q, double p0, sf_limit *L, sf_error *err);
+void sf_limit_free(sf_limit *L);
+
+/* The state y (q->n values) of the exact problem at p0 + dp for the limit
+ * solution z = (u, mu, nu): coordinates dp u, first-order multipliers
+ * dp mu, second-order ones nu (scaled back to the rows). */
+void sf_limit_to_state(const sf_equil *q, const sf_limit *L, const double *z, double dp, double *y);
+
 typedef struct sf_flatstart_info {
     int iterations;          /* Newton iterations of the limit problem */
     double residual;         /* its final scaled residual */

@@ -22,6 +22,7 @@
 #include "run_boundary.h"
 #include "run_dynamics.h"
 #include "flatstart.h"
+#include "flatswitch.h"
 #include "mobility.h"
 #include "reactions.h"
 #include "scene.h"
@@ -77,6 +78,10 @@ typedef struct run_ctx {
     sf_compare *cmp;      /* reference data of the study (compare.h), or NULL */
     int compared;         /* comparison done */
     cont_stats tot;       /* solver totals of the path (before the comparison) */
+    /* switching at the flat state with exact closure (flatswitch.h) */
+    int flat_sw;          /* the path started at the flat state, branch_depth >= 1 */
+    double flat_p0, flat_dp, flat_p1;
+    double *flat_first;   /* the first point of the path off the flat state */
 } run_ctx;
 
 static double now(void)
@@ -421,6 +426,27 @@ static void stage_segment(run_ctx *r, double p, int dir, double lo, double hi)
     cont_set_prange(r->solver, dir > 0 ? lo : e, dir > 0 ? e : hi);
 }
 
+/* Every branch at the flat state (flatswitch.h): the solutions of the
+ * reduced second-order equations on the tangent cone, each followed as a
+ * branch; the path already followed from the flat state is not repeated. */
+static int flat_switch(run_ctx *r)
+{
+    sf_flatsw F;
+    sf_error e;
+    sf_error_clear(&e);
+    int nst = 400;
+    if (sf_study_int(&r->sc->study, "analysis.flat_starts", 400, &nst, r->err)) return r->err->code;
+    int rc = sf_flatsw_find(&r->eq, r->flat_p0, r->flat_dp, 0.02, r->p_lo, r->p_hi, nst, &F, &e);
+    if (rc) {
+        if (rc == SF_ENOMEM) return sf_fail(r->err, rc, "%s", e.msg);
+        branch_note(r, "flat state: no switching: %s", e.msg);
+        return SF_OK;
+    }
+    rc = sf_flatsw_follow(&r->bif, r->solver, &F, r->flat_p0, r->flat_first, r->flat_p1, r->err);
+    sf_flatsw_free(&F);
+    return rc;
+}
+
 /* Follow the path from its start point: one load stage after the other
  * when the loads come in stages (staged), then the branches through the
  * branch points met (bifurcation.h).  y0: scratch of n values, freed here. */
@@ -456,6 +482,7 @@ static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, d
     if (rc == CONT_FAIL)
         return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: %s", s->path,
                        r->npoints, cont_errmsg(cs));
+    if (r->flat_sw && flat_switch(r)) return err->code;
     return sf_bif_switch(&r->bif, cs, err);
 }
 
@@ -625,6 +652,16 @@ static int run_equilibrium(run_ctx *r)
             free(y0);
             return explain_start_failure(r);
         }
+        if (depth >= 1 && !eq->pz && !r->failed) {
+            /* every branch of the flat state, after the path (flat_switch) */
+            r->flat_first = malloc(sizeof(double) * (size_t)eq->n);
+            if (!r->flat_first) { free(y0); return sf_fail(err, SF_ENOMEM, "out of memory"); }
+            memcpy(r->flat_first, cont_get_point(cs)->y, sizeof(double) * (size_t)eq->n);
+            r->flat_sw = 1;
+            r->flat_p0 = start;
+            r->flat_p1 = cont_get_point(cs)->p;
+            r->flat_dp = p1 - start;
+        }
         rc = CONT_OK;
     } else {
         rc = cont_start(cs, y0, start, dir);
@@ -678,12 +715,11 @@ static int write_outputs(run_ctx *r)
         sf_outbuf_printf(&out, "# %d branches, each a block after two blank lines (gnuplot index 0..%d)\n",
                   r->bif.nbranches, r->bif.nbranches - 1);
     sf_outbuf_printf(&out, "point\tbranch\ts\tp\tload");
-    for (int i = 0; i < s->nprobes; i++)
-        sf_outbuf_printf(&out, "\tprobe%d_ux\tprobe%d_uy\tprobe%d_uz", i + 1, i + 1, i + 1);
+    sf_outbuf_probe_columns(&out, s->nprobes);
     sf_outbuf_printf(&out, "\tenergy\tresidual\tresidual_rot\tresidual_tra\tnewton\tstable\tmorse");
-    for (int i = 0; i < r->nev; i++) sf_outbuf_printf(&out, "\teig%d", i + 1);
+    sf_outbuf_numbered_columns(&out, "eig", r->nev);
     sf_outbuf_printf(&out, "\ttype");
-    for (int i = 0; i < s->nfolds; i++) sf_outbuf_printf(&out, "\ttheta%d", i + 1);
+    sf_outbuf_numbered_columns(&out, "theta", s->nfolds);
     sf_outbuf_printf(&out, "\n");
     if (r->rows.n) sf_outbuf_printf(&out, "%.*s", (int)r->rows.n, r->rows.s);
     WRITE("branch.tsv", out);
@@ -695,10 +731,9 @@ static int write_outputs(run_ctx *r)
     out.n = 0;
     sf_outbuf_printf(&out, "%s", r->header.s ? r->header.s : "");
     sf_outbuf_printf(&out, "point\tbranch\ttype\tp\ts");
-    for (int i = 0; i < s->nprobes; i++)
-        sf_outbuf_printf(&out, "\tprobe%d_ux\tprobe%d_uy\tprobe%d_uz", i + 1, i + 1, i + 1);
+    sf_outbuf_probe_columns(&out, s->nprobes);
     sf_outbuf_printf(&out, "\tstable\tmorse");
-    for (int i = 0; i < r->nev; i++) sf_outbuf_printf(&out, "\teig%d", i + 1);
+    sf_outbuf_numbered_columns(&out, "eig", r->nev);
     sf_outbuf_printf(&out, "\tloc_err\n");
     if (r->special.n) sf_outbuf_printf(&out, "%.*s", (int)r->special.n, r->special.s);
     WRITE("special.tsv", out);
@@ -812,6 +847,7 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     sf_bif_free(&r.bif);
     sf_equil_free(&r.eq);
     free(r.probes);
+    free(r.flat_first);
     free(r.rows.s);
     free(r.stats.s);
     free(r.special.s);

@@ -278,9 +278,9 @@ static int write_boundary(bnd_ctx *r, const char *dir, double pstart)
                      "the coordinates; theta*: rad; type: SP start (the point of the path), "
                      "CP cusp, EP end\n", r->fam.shown, pname);
     sf_outbuf_printf(&o, "point\tsecond\tp\tmu\tcusp_test\tmorse");
-    for (int i = 0; i < r->nev; i++) sf_outbuf_printf(&o, "\teig%d", i + 1);
+    sf_outbuf_numbered_columns(&o, "eig", r->nev);
     sf_outbuf_printf(&o, "\ttype");
-    for (int i = 0; i < r->nfolds; i++) sf_outbuf_printf(&o, "\ttheta%d", i + 1);
+    sf_outbuf_numbered_columns(&o, "theta", r->nfolds);
     sf_outbuf_printf(&o, "\n");
     for (int k = 0; k < r->nrows; k++) {
         const bnd_row *w = &r->rows[k];

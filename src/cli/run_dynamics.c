@@ -130,10 +130,9 @@ static int write_outputs(traj_ctx *r)
     sf_outbuf_printf(&out, "# units: t: s; p, load: as the parameter; probe*: m; energy, kinetic: J; "
                     "drift: 1 (rotation rows) or m; speed: rad/s; theta*: rad\n");
     sf_outbuf_printf(&out, "step\tt\tp\tload");
-    for (int i = 0; i < s->nprobes; i++)
-        sf_outbuf_printf(&out, "\tprobe%d_ux\tprobe%d_uy\tprobe%d_uz", i + 1, i + 1, i + 1);
+    sf_outbuf_probe_columns(&out, s->nprobes);
     sf_outbuf_printf(&out, "\tenergy\tkinetic\tdrift\tspeed");
-    for (int i = 0; i < s->nfolds; i++) sf_outbuf_printf(&out, "\ttheta%d", i + 1);
+    sf_outbuf_numbered_columns(&out, "theta", s->nfolds);
     sf_outbuf_printf(&out, "\n");
     if (r->rows.n) sf_outbuf_printf(&out, "%.*s", (int)r->rows.n, r->rows.s);
     WRITE("trajectory.tsv", out);

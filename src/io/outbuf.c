@@ -40,6 +40,17 @@ void sf_outbuf_printf(sf_outbuf *b, const char *fmt, ...)
     }
 }
 
+void sf_outbuf_numbered_columns(sf_outbuf *b, const char *name, int n)
+{
+    for (int i = 0; i < n; i++) sf_outbuf_printf(b, "\t%s%d", name, i + 1);
+}
+
+void sf_outbuf_probe_columns(sf_outbuf *b, int nprobes)
+{
+    for (int i = 0; i < nprobes; i++)
+        sf_outbuf_printf(b, "\tprobe%d_ux\tprobe%d_uy\tprobe%d_uz", i + 1, i + 1, i + 1);
+}
+
 int sf_outbuf_fill(void *ctx, void *f)
 {
     const sf_outbuf *b = ctx;

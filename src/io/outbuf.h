@@ -16,6 +16,10 @@ typedef struct sf_outbuf {
 
 /* Append formatted text (grows the buffer; sets oom on failure). */
 void sf_outbuf_printf(sf_outbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Column headers of the TSV writers: "\tNAME1\tNAME2 .. \tNAMEn", and
+ * "\tprobeK_ux\tprobeK_uy\tprobeK_uz" for K = 1..nprobes. */
+void sf_outbuf_numbered_columns(sf_outbuf *b, const char *name, int n);
+void sf_outbuf_probe_columns(sf_outbuf *b, int nprobes);
 /* Fill callback for sf_write_atomic: ctx is an sf_outbuf, f a FILE *. */
 int sf_outbuf_fill(void *ctx, void *f);
 void sf_outbuf_free(sf_outbuf *b);

@@ -156,6 +156,7 @@ static const sf_study_key schema[] = {
     {"analysis.flat_start",        STR,   0,              0, 0,       "limit",       "limit|direct", "-", "exact closure starting at the flat state: from the limit of the branch (then the penalty homotopy), or directly (the engine's tangent at the singular point)"},
     {"analysis.step_bound",        BOOL,  0,              0, 0,       "true",        NULL, "-", "shorten a step so that it ends between two eigenvalue crossings predicted within it (docs/bifurcation.md)"},
     {"analysis.branch_depth",      INT,   SF_KEY_GE,      0, 0,       "0",           NULL, "-", "levels of branch switching at branch points (0: none)"},
+    {"analysis.flat_starts",       INT,   SF_KEY_GE,      1, 0,       "400",         NULL, "-", "exact closure, branch_depth >= 1: Newton starts on the reduced second-order equations at the flat state (every branch of its tangent cone; docs/bifurcation.md)"},
     {"analysis.second",            STR,   0,              0, 0,       NULL,          NULL, "-", "boundary: the second parameter, any numeric study key (defaults.width, materials.fold.E, analysis.load, loads[0].force[0], ...)"},
     {"analysis.second_min",        NUM,   0,              0, 0,       NULL,          NULL, "-", "boundary: smallest value of the second parameter"},
     {"analysis.second_max",        NUM,   0,              0, 0,       NULL,          NULL, "-", "boundary: largest value of the second parameter"},
