@@ -9,7 +9,8 @@
  *    formulations: the rotation part of the folding map is the rigid one
  *    (MODEL.md 3-4), so the error is the Newton tolerance's at any width;
  *  - symmetric sheets under symmetric driving (the Miura sheet's mirror,
- *    square4's eight symmetries with its four loads): every symmetry found
+ *    square4's eight symmetries with its four loads, a waterbomb base's
+ *    half turn and two mirrors): every symmetry found
  *    from the study's geometry maps fold i to fold j, and theta_i = theta_j
  *    to 1e-9 along the path.
  * The program is run as a user would (src/smoothfold pattern, run) and
@@ -407,6 +408,9 @@ static void test_symmetric_states(void **state)
     /* square4: the square's 7 symmetries besides the identity map its
      * folds, its four loads and its central fixed face to themselves */
     assert_int_equal(check_symmetric("square4", NULL, "--set output.shapes=0", 1e-9), 7);
+    /* a waterbomb base (degree 6) with all its folds driven: the
+     * rectangle's half turn and two mirrors */
+    assert_int_equal(check_symmetric("wb1-sym", "waterbomb --cells=1x1 --drive=all", "", 1e-9), 3);
 }
 
 int main(void)

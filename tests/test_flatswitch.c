@@ -5,11 +5,14 @@
  * Independent values:
  *  - the symmetry group of the square, D4, built from the study's geometry
  *    as permutations of its folds (as in test_multibp.c), and the flip
- *    z -> -z (q -> -q): two cone solutions the program puts in one class
- *    of symmetric images must be D4 images of each other (the images
- *    found of each are printed: the search is not complete);
+ *    z -> -z (q -> -q): the set of cone solutions found is closed under
+ *    D4, each class of symmetric images is one D4 orbit, of a size that
+ *    divides 8 (the orbit-stabiliser theorem);
  *  - the residual of the full equilibrium problem (scaled, <= 1e-9) along
  *    every branch started from the cone solutions, off the flat state;
+ *  - the paper's penalty (a second formulation): at a state of an exact
+ *    branch, the penalty problem with weights 10^5..10^8 times the
+ *    paper's approaches it like 1/weight;
  *  - the nu = 0 buckling load of the flat sheet (0.29181, the minimum of
  *    the Rayleigh quotient over the whole first-order kernel) bounds every
  *    p* (its minimum over the cone) from below. */
@@ -94,10 +97,11 @@ static void test_square4(void **state)
         CHECK_LE(0.2918, F.pstar[j], "cone solution %d: p*", j + 1);
         for (int f = 0; f < nf; f++) th[(size_t)j * nf + f] = F.u[(size_t)j * nq + sc.model.qoff[f]];
     }
-    /* the program's classes of symmetric images (same p*, sorted |u|) are
-     * D4 images of each other, checked with the geometric permutations;
-     * how many images of each the search found is printed (the search is
-     * not complete: docs/bifurcation.md) */
+    /* the set found is closed under D4 (each solution's image under each
+     * element is a solution at the same p*), and the program's classes of
+     * symmetric images (same p*, sorted |u|) are the D4 orbits, of sizes
+     * dividing 8 (8 / |stabiliser|), checked with the test's own
+     * geometric permutations */
     for (int j = 0; j < F.nsol; j++) {
         int found = 0;
         for (int g = 0; g < NG; g++)
@@ -110,6 +114,13 @@ static void test_square4(void **state)
         for (int g = 0; g < NG; g++) ng += (found >> g) & 1;
         print_message("# cone solution %d: p* = %.10f, class %d, images found under %d of the 8 elements of D4\n",
                       j + 1, F.pstar[j], F.cls[j] + 1, ng);
+        /* closed under D4: the image under every element is a solution
+         * found at the same p*; so the class is the whole orbit */
+        assert_int_equal(ng, NG);
+        int size = 0;
+        for (int i = 0; i < F.nsol; i++) size += F.cls[i] == F.cls[j];
+        if (NG % size != 0) print_error("class of cone solution %d: %d rays, not a divisor of 8\n", j + 1, size);
+        assert_int_equal(NG % size, 0);
         for (int i = 0; i < F.nsol; i++) {
             if (F.cls[i] != F.cls[j]) continue;
             int same = 0;
@@ -130,7 +141,7 @@ static void test_square4(void **state)
         int st = cont_start_tangent(cs, F.y + (size_t)i * n, F.p[i], F.ty + (size_t)i * n, F.tp[i]);
         if (st != CONT_OK) print_error("branch %d: %s\n", i, cont_errmsg(cs));
         assert_int_equal(st, CONT_OK);
-        for (int step = 0; step <= 6; step++) {
+        for (int step = 0; step <= 4; step++) {
             const cont_point *pt = cont_get_point(cs);
             assert_int_equal(sf_equil_residual(pt->y, pt->p, Fr, &eq), 0);
             double r = 0.0, amp = 0.0;
@@ -138,9 +149,62 @@ static void test_square4(void **state)
             for (int k = 0; k < nq; k++) amp = fmax(amp, fabs(pt->y[k]));
             CHECK_LE(r, 1e-9, "branch %d, point %d: scaled residual", i, step);
             CHECK_LE(1e-3, amp, "branch %d, point %d: off the flat state", i, step);
-            if (step < 6) assert_int_equal(cont_step(cs), CONT_CONTINUE);
+            if (step < 4) assert_int_equal(cont_step(cs), CONT_CONTINUE);
         }
     }
+    /* the paper's penalty as the weights grow (a second formulation): at a
+     * state of the branch from the lowest p*, 20 steps out (amplitude about
+     * 0.2 rad), the penalty problem with weights 10^j times the paper's,
+     * corrected from that state in the hyperplane orthogonal to the
+     * branch's tangent; its distance to the exact state falls like 1/f.
+     * Newton tolerance 1e-13 f: the scaled residual holds f times the
+     * rounding of the loop residuals. */
+    cont_set_step(cs, 0.01, 1e-8, 0.02);
+    assert_int_equal(cont_start_tangent(cs, F.y, F.p[0], F.ty, F.tp[0]), CONT_OK);
+    for (int step = 0; step < 20; step++) assert_int_equal(cont_step(cs), CONT_CONTINUE);
+    const cont_point *pe0 = cont_get_point(cs);
+    double *yb = calloc((size_t)n + 1, sizeof(double)), *tb = calloc((size_t)n + 1, sizeof(double));
+    assert_non_null(yb);
+    assert_non_null(tb);
+    memcpy(yb, pe0->y, sizeof(double) * (size_t)n);
+    memcpy(tb, pe0->ty, sizeof(double) * (size_t)nq);
+    double pb = pe0->p, tpb = pe0->tp, amp = 0.0, prev = INFINITY, d5 = 0.0;
+    for (int k = 0; k < nq; k++) amp = fmax(amp, fabs(yb[k]));
+    print_message("# penalty x f at p = %.6f (amplitude %.3f rad): max |q_penalty - q_exact| [rad]\n", pb, amp);
+    for (int j = 5; j <= 8; j++) {
+        double f = pow(10.0, j);
+        sf_equil pe;
+        CHECK_OK(sf_equil_init(&pe, &sc.model, SF_PARAM_LOAD, -1, 0, 2, 0.0, &err), err);
+        sf_equil_use_penalty(&pe, 100.0 * f, 1.0 * f);
+        double *y = calloc((size_t)pe.n + 1, sizeof(double)), *t = calloc((size_t)pe.n + 1, sizeof(double));
+        assert_non_null(y);
+        assert_non_null(t);
+        memcpy(y, yb, sizeof(double) * (size_t)nq);
+        memcpy(t, tb, sizeof(double) * (size_t)nq);
+        cont_solver *ps = NULL;
+        assert_int_equal(sf_equil_create_solver(&pe, &ps), CONT_OK);
+        cont_set_newton(ps, 1e-13 * f, 200, 1);
+        cont_set_newton_init(ps, 500, 1);
+        int st = cont_start_tangent(ps, y, pb, t, tpb);
+        if (st != CONT_OK) print_error("penalty x %g: %s\n", f, cont_errmsg(ps));
+        assert_int_equal(st, CONT_OK);
+        const double *yp = cont_get_point(ps)->y;
+        double d = 0.0;
+        for (int k = 0; k < nq; k++) d = fmax(d, fabs(yp[k] - yb[k]));
+        print_message("%g\t%.3g\n", f, d);
+        if (!(d < 0.2 * prev)) print_error("penalty x %g: %.3g, not below a fifth of %.3g\n", f, d, prev);
+        assert_true(d < 0.2 * prev);
+        prev = d;
+        if (j == 5) d5 = d;
+        cont_free(ps);
+        free(y);
+        free(t);
+        sf_equil_free(&pe);
+    }
+    /* like 1/f over the three decades, within a factor 2 */
+    CHECK_LE(prev, 2e-3 * d5, "penalty x 1e8: distance to the exact state (x 1e5: %.3g)", d5);
+    free(yb);
+    free(tb);
     cont_free(cs);
     free(Fr);
     free(th);

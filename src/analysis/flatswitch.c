@@ -351,9 +351,107 @@ void sf_flatsw_free(sf_flatsw *F)
     memset(F, 0, sizeof *F);
 }
 
+/* Newton from the start x = v (first k values): multipliers by least
+ * squares, then the (deflated) iteration; a new solution is appended to
+ * *sol (n values each, *ns of *cap) and deflated from then on.  0, or -1
+ * (out of memory, LAPACK failure). */
+static int try_start(const sys *S, double *v, double **solp, int *nsp, int *capp, int *nconv,
+                     double a0, work *w)
+{
+    int k = S->k, n = S->n;
+    if (start_multipliers(S, v, w)) return -1;
+    int nr = sys_newton(S, v, w);
+    if (nr < 0) return -1;
+    if (nr) return 0;
+    (*nconv)++;
+    if (S->hom) {
+        /* sign: the largest component positive */
+        int im = 0;
+        for (int i = 1; i < k; i++) if (fabs(v[i]) > fabs(v[im])) im = i;
+        if (v[im] < 0) for (int i = 0; i < k; i++) v[i] = -v[i];
+    } else if (!(sqrt(dot(k, v, v)) > 1e-9 * a0)) {
+        return 0;
+    }
+    if (!is_new(S, v, *solp, *nsp)) return 0;
+    w->defl = NULL;   /* sol may move */
+    if (*nsp == *capp) {
+        double *t = realloc(*solp, sizeof(double) * (size_t)(*capp *= 2) * n);
+        if (!t) return -1;
+        *solp = t;
+    }
+    memcpy(*solp + (size_t)*nsp * n, v, sizeof(double) * (size_t)n);
+    (*nsp)++;
+    w->defl = *solp;
+    w->ndefl = *nsp;
+    return 0;
+}
+
+/* The isometries of the crease pattern among the 8 of the square about
+ * the vertices' centroid (rotations by multiples of 90 degrees, the
+ * reflections): those that map every fold onto a fold.  perm[g * nf + f]:
+ * the image of fold f under the g-th found (0: the identity).  Returns
+ * their number. */
+static int pattern_symmetries(const sf_study *st, int *perm)
+{
+    int nf = st->nfolds, nv = st->nvertices, ng = 0;
+    double c[2] = {0, 0}, size = 0.0;
+    for (int i = 0; i < nv; i++) { c[0] += st->vertices[i].x[0] / nv; c[1] += st->vertices[i].x[1] / nv; }
+    for (int i = 0; i < nv; i++)
+        size = fmax(size, fabs(st->vertices[i].x[0] - c[0]) + fabs(st->vertices[i].x[1] - c[1]));
+    double tol = 1e-9 * fmax(size, 1e-300);
+    for (int g = 0; g < 8; g++) {
+        int ok = 1;
+        for (int f = 0; f < nf && ok; f++) {
+            double e[2][2];
+            for (int end = 0; end < 2; end++) {
+                const double *x = st->vertices[end ? st->folds[f].b : st->folds[f].a].x;
+                double X = x[0] - c[0], Y = x[1] - c[1];
+                if (g >= 4) Y = -Y;
+                for (int r = 0; r < g % 4; r++) { double t = X; X = -Y; Y = t; }
+                e[end][0] = X + c[0];
+                e[end][1] = Y + c[1];
+            }
+            int found = -1;
+            for (int h = 0; h < nf && found < 0; h++) {
+                const double *a = st->vertices[st->folds[h].a].x, *b = st->vertices[st->folds[h].b].x;
+                double d1 = fabs(a[0] - e[0][0]) + fabs(a[1] - e[0][1]) + fabs(b[0] - e[1][0]) + fabs(b[1] - e[1][1]);
+                double d2 = fabs(a[0] - e[1][0]) + fabs(a[1] - e[1][1]) + fabs(b[0] - e[0][0]) + fabs(b[1] - e[0][1]);
+                if (d1 <= tol || d2 <= tol) found = h;
+            }
+            if (found < 0) ok = 0;
+            else perm[ng * nf + f] = found;
+        }
+        if (ok) ng++;
+    }
+    return ng;
+}
+
+/* x' = N^T P u (u = N x) for the fold permutation P (perm: nf values),
+ * the shape-mode amplitudes multiplied by msign. */
+static void image(const sf_cone_red *R, const sf_model *m, const int *perm, double msign,
+                  const double *x, double *v, double *u, double *u2)
+{
+    int nq = R->nq, k = R->k;
+    for (int i = 0; i < nq; i++) u[i] = 0.0;
+    for (int c = 0; c < k; c++)
+        for (int i = 0; i < nq; i++) u[i] += R->N[(size_t)c * nq + i] * x[c];
+    for (int f = 0; f < m->nfolds; f++)
+        for (int j = 0; j < m->qn[f]; j++)
+            u2[m->qoff[perm[f]] + j] = (j ? msign : 1.0) * u[m->qoff[f] + j];
+    for (int c = 0; c < k; c++) v[c] = dot(nq, R->N + (size_t)c * nq, u2);
+}
+
 /* Search: solutions v (n values each) into *sols; returns the count. */
-static int search(const sys *S, int nstarts, double p0, double plo, double phi, double **sols,
-                  int *nconv, work *w)
+/* The crease pattern's symmetries for orbit completion (search). */
+typedef struct symm {
+    const sf_cone_red *R;
+    const sf_model *m;
+    int ng, *perm;
+    double *u, *u2;       /* nq each */
+} symm;
+
+static int search(const sys *S, int nstarts, double p0, double plo, double phi, const symm *sy,
+                  double **sols, int *nconv, work *w)
 {
     int k = S->k, n = S->n, ns = 0, cap = 16;
     double *sol = malloc(sizeof(double) * (size_t)cap * n);
@@ -407,31 +505,19 @@ static int search(const sys *S, int nstarts, double p0, double plo, double phi, 
             double an = sqrt(fmax(dot(k, v, w->tmp), 1e-300));
             for (int i = 0; i < k; i++) v[i] *= a0 / an;
         }
-        if (start_multipliers(S, v, w)) { ns = -1; goto done; }
-        int nr = sys_newton(S, v, w);
-        if (nr < 0) { ns = -1; goto done; }
-        if (nr) continue;
-        (*nconv)++;
-        if (S->hom) {
-            /* sign: the largest component positive */
-            int im = 0;
-            for (int i = 1; i < k; i++) if (fabs(v[i]) > fabs(v[im])) im = i;
-            if (v[im] < 0) for (int i = 0; i < k; i++) v[i] = -v[i];
-        } else if (!(sqrt(dot(k, v, v)) > 1e-9 * a0)) {
-            continue;
-        }
-        if (!is_new(S, v, sol, ns)) continue;
-        w->defl = NULL;   /* sol may move */
-        if (ns == cap) {
-            double *t = realloc(sol, sizeof(double) * (size_t)(cap *= 2) * n);
-            if (!t) { ns = -1; goto done; }
-            sol = t;
-        }
-        memcpy(sol + (size_t)ns * n, v, sizeof(double) * (size_t)n);
-        ns++;
-        w->defl = sol;
-        w->ndefl = ns;
+        if (try_start(S, v, &sol, &ns, &cap, nconv, a0, w)) { ns = -1; goto done; }
     }
+    /* orbit completion: the images of every solution found under the
+     * crease pattern's symmetries (with the shape modes as they are and
+     * reversed) as further starts; whatever Newton reaches from them is a
+     * solution, an image or not */
+    for (int j = 0; j < ns && sy && sy->ng > 1; j++)
+        for (int g = 1; g < sy->ng; g++)
+            for (int ms = 0; ms < 2; ms++) {
+                image(sy->R, sy->m, sy->perm + (size_t)g * sy->m->nfolds, ms ? -1.0 : 1.0,
+                      sol + (size_t)j * n, v, sy->u, sy->u2);
+                if (try_start(S, v, &sol, &ns, &cap, nconv, a0, w)) { ns = -1; goto done; }
+            }
     w->defl = NULL;
     w->ndefl = 0;
     if (S->hom) {
@@ -596,7 +682,19 @@ int sf_flatsw_find(sf_equil *eq, double p0, double dp, double eps, double plo, d
         rc = sf_fail(err, SF_ENOMEM, "out of memory");
         goto done;
     }
-    ns = search(&S, nstarts, p0, plo, phi, &sol, &nconv, &w);
+    symm sy = {&R, eq->m, 0, NULL, NULL, NULL};
+    sy.perm = malloc(sizeof(int) * ((size_t)8 * eq->m->nfolds + 1));
+    sy.u = malloc(sizeof(double) * ((size_t)nq + 1));
+    sy.u2 = malloc(sizeof(double) * ((size_t)nq + 1));
+    if (!sy.perm || !sy.u || !sy.u2) {
+        free(sy.perm); free(sy.u); free(sy.u2);
+        rc = sf_fail(err, SF_ENOMEM, "out of memory");
+        goto done;
+    }
+    sy.ng = pattern_symmetries(eq->m->study, sy.perm);
+    F->nsym = sy.ng;
+    ns = search(&S, nstarts, p0, plo, phi, &sy, &sol, &nconv, &w);
+    free(sy.perm); free(sy.u); free(sy.u2);
     if (ns < 0) { rc = sf_fail(err, SF_ENOMEM, "%s: flat state: out of memory or a LAPACK failure", path); goto done; }
     F->nconv = nconv;
     key = malloc(sizeof(double) * ((size_t)ns + 1));
@@ -682,8 +780,8 @@ int sf_flatsw_follow(sf_bif *b, cont_solver *cs, const sf_flatsw *F, double p0,
     }
     note(b, "flat state (p = %.10g): %d solutions of the reduced second-order equations on the "
          "tangent cone (%d first-order motions, %d second-order forms; %d of %d Newton starts "
-         "converged), %d classes of symmetric images; %s", p0, F->nsol, F->k, F->r, F->nconv,
-         F->nstarts, F->ncls, F->homogeneous ? "each leaves the flat branch at its own p*, "
+         "converged, then images under %d symmetries of the crease pattern), %d classes of "
+         "symmetric images; %s", p0, F->nsol, F->k, F->r, F->nconv, F->nstarts, F->nsym - 1, F->ncls, F->homogeneous ? "each leaves the flat branch at its own p*, "
          "both halves followed" : "each followed from the flat state");
     for (int j = 0; j < F->nsol; j++)
         note(b, "  cone solution %d: p* = %.10g, energy %.6g, class %d, residual %.2g, "

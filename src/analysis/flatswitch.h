@@ -47,6 +47,7 @@ typedef struct sf_flatsw {
     int k, r;             /* first-order motions, independent second-order forms */
     int nstarts;          /* Newton starts tried */
     int nconv;            /* starts that converged (any solution) */
+    int nsym;             /* isometries of the crease pattern used (identity included) */
     int nsol;             /* distinct solutions kept */
     int ncls;             /* classes of symmetric images among them */
     int n, nq;            /* unknowns of the equilibrium problem, coordinates */
