@@ -2,56 +2,76 @@
 # scale.sh [BUILDDIR] - cost of the face-pose formulation on Miura-ori
 # sheets of m x m cells (issue 12 item 5).  Not part of make check.
 #
-# For each m: bench/miura-study.sh m load (gravity and a tip load, K = 1,
-# exact closure), run with solver.formulation = "poses", the direct flat
-# start, stability off, at most STEPS continuation steps (default 10) and
+# For each driving and each m: the study of bench/miura-study.sh
+#   load       m load K       gravity and a tip load, p = load factor 0..1
+#   actuation  m actuation K  rest angles of both groups, p = 0..1 (rest
+#                             angles up to 2.6 rad = 149 degrees)
+# run with solver.formulation = "poses", exact closure, the flat start
+# START (default "direct"), stability on (STAB=1) or off (STAB=0), to the
+# end of the path (analysis.max_steps = STEPS, default 100000) within
 # TIMEOUT seconds (default 600).  Prints a markdown table: unknowns,
-# Jacobian nonzeros (and per fold), points, p reached, Newton iterations,
-# wall time, wall time per Newton iteration, peak memory (/usr/bin/time -v),
-# exit status; then the fitted exponent of the time per Newton iteration
-# against the unknowns (least squares in log-log over the sizes that ran).
-# Environment: K (fold modes, default 1), SIZES (default "2 4 8 16 31"), STEPS, TIMEOUT, FORMULATION
-# (default poses; "folds" for the fold formulation, with the limit start).
+# Jacobian nonzeros, points, p reached, Newton iterations of the accepted
+# corrector attempts (stats.csv "newton"), Jacobian evaluations (each one
+# factorised once: the factorisations, failed attempts included), step
+# retries (failed corrector attempts), wall time, peak memory
+# (/usr/bin/time -v), exit status (0 = end of the path reached); then per
+# driving the fitted exponent of the wall time against the unknowns over
+# the sizes m >= FITFROM (default 8) that reached the end of the path.
+# Environment: DRIVINGS (default "load actuation"), SIZES (default
+# "2 4 8 16 31"), K (fold modes, default 1), STAB, STEPS, TIMEOUT, START,
+# FITFROM, FORMULATION (default poses; "folds" uses the limit start).
 src=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$src}
 bin=$build/src/smoothfold
+drivings=${DRIVINGS:-load actuation}
 sizes=${SIZES:-2 4 8 16 31}
-steps=${STEPS:-10}
+steps=${STEPS:-100000}
 tmo=${TIMEOUT:-600}
 form=${FORMULATION:-poses}
+K=${K:-1}
+fitfrom=${FITFROM:-8}
+stab=true
+[ "${STAB:-1}" = 0 ] && stab=false
+start=${START:-direct}
+[ "$form" = folds ] && [ -z "$START" ] && start=limit
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-start=direct
-[ "$form" = folds ] && start=limit
-echo "| m | folds | unknowns | nonzeros | nnz/fold | points | p reached | Newton | wall [s] | s/Newton | peak MB | status |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
-for m in $sizes; do
-    "$src/bench/miura-study.sh" "$m" load "${K:-1}" > "$tmp/m$m.cfg"
-    /usr/bin/time -v -o "$tmp/time$m" timeout "$tmo" "$bin" run "$tmp/m$m.cfg" -q \
-        --set analysis.stability=false --set analysis.max_steps="$steps" \
-        --set analysis.flat_start=\""$start"\" --set solver.formulation=\""$form"\" \
-        -o "$tmp/out$m" > "$tmp/log$m" 2>&1
-    rc=$?
-    wall=$(awk -F': ' '/Elapsed \(wall clock\)/ { n = split($2, a, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + a[i]; print s }' "$tmp/time$m")
-    mem=$(awk -F': ' '/Maximum resident/ { printf "%.0f", $2 / 1024 }' "$tmp/time$m")
-    folds=$(grep -c 'from = ' "$tmp/m$m.cfg")
-    if [ -f "$tmp/out$m/branch.tsv" ]; then
-        unk=$(sed -n 's/^# formulation: poses, \([0-9]*\) unknowns.*/\1/p' "$tmp/out$m/branch.tsv")
-        nnz=$(sed -n 's/.*multipliers), \([0-9]*\) Jacobian nonzeros.*/\1/p' "$tmp/out$m/branch.tsv")
-        pts=$(grep -v '^#' "$tmp/out$m/branch.tsv" | awk 'NR > 1' | wc -l)
-        pend=$(grep -v '^#' "$tmp/out$m/branch.tsv" | awk -F'\t' 'NR > 1 { p = $4 } END { printf "%.4g", p }')
-        newt=$(grep -v '^#' "$tmp/out$m/stats.csv" | awk -F, 'NR > 1 { s += $5 } END { print s + 0 }')
-    else
-        unk=-; nnz=-; pts=0; pend=-; newt=0
-    fi
-    [ -z "$unk" ] && unk=-
-    [ -z "$nnz" ] && nnz=-
-    per=$(awk -v w="$wall" -v n="$newt" 'BEGIN { if (n > 0) printf "%.3g", w / n; else print "-" }')
-    npf=$(awk -v z="$nnz" -v f="$folds" 'BEGIN { if (z != "-") printf "%.0f", z / f; else print "-" }')
-    st=$rc; [ $rc -eq 124 ] && st="timeout ${tmo} s"
-    echo "| $m | $folds | $unk | $nnz | $npf | $pts | $pend | $newt | $wall | $per | $mem | $st |"
-    echo "$unk $per" >> "$tmp/fit"
+echo "K = $K, stability $stab, flat start $start, formulation $form, timeout $tmo s"
+echo
+echo "| driving | m | folds | unknowns | nonzeros | points | p reached | Newton | Jacobians | retries | wall [s] | peak MB | status |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+for d in $drivings; do
+    for m in $sizes; do
+        t=$tmp/$d$m
+        "$src/bench/miura-study.sh" "$m" "$d" "$K" > "$t.cfg"
+        /usr/bin/time -v -o "$t.time" timeout "$tmo" "$bin" run "$t.cfg" -q \
+            --set analysis.stability="$stab" --set analysis.max_steps="$steps" \
+            --set analysis.flat_start=\""$start"\" --set solver.formulation=\""$form"\" \
+            -o "$t.out" > "$t.log" 2>&1
+        rc=$?
+        wall=$(awk -F': ' '/Elapsed \(wall clock\)/ { n = split($2, a, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + a[i]; print s }' "$t.time")
+        mem=$(awk -F': ' '/Maximum resident/ { printf "%.0f", $2 / 1024 }' "$t.time")
+        folds=$(grep -c 'from = ' "$t.cfg")
+        unk=-; nnz=-; pts=0; pend=-; newt=0; jac=0; ret=0
+        if [ -f "$t.out/branch.tsv" ]; then
+            unk=$(sed -n 's/^# formulation: [a-z]*, \([0-9]*\) unknowns.*/\1/p' "$t.out/branch.tsv")
+            nnz=$(sed -n 's/.*multipliers), \([0-9]*\) Jacobian nonzeros.*/\1/p' "$t.out/branch.tsv")
+            pts=$(grep -v '^#' "$t.out/branch.tsv" | awk 'NR > 1' | wc -l)
+            pend=$(grep -v '^#' "$t.out/branch.tsv" | awk -F'\t' 'NR > 1 { p = $4 } END { printf "%.4g", p }')
+            set -- $(grep -v '^#' "$t.out/stats.csv" | awk -F, 'NR > 1 { n += $5; j += $7; r += $8 } END { print n + 0, j + 0, r + 0 }')
+            newt=$1; jac=$2; ret=$3
+        fi
+        [ -z "$unk" ] && unk=-
+        [ -z "$nnz" ] && nnz=-
+        st=$rc; [ $rc -eq 124 ] && st="timeout ${tmo} s"
+        echo "| $d | $m | $folds | $unk | $nnz | $pts | $pend | $newt | $jac | $ret | $wall | $mem | $st |"
+        [ $rc -eq 0 ] && [ "$m" -ge "$fitfrom" ] && [ "$unk" != - ] && echo "$d $unk $wall" >> "$tmp/fit"
+    done
 done
-awk '$1 != "-" && $2 != "-" && $2 > 0 { x = log($1); y = log($2); n++; sx += x; sy += y; sxx += x * x; sxy += x * y }
-     END { if (n >= 2) printf "\nfitted: time per Newton iteration ~ unknowns^%.2f (%d sizes)\n", (n * sxy - sx * sy) / (n * sxx - sx * sx), n;
-           else print "\nfitted: fewer than two sizes ran" }' "$tmp/fit"
+echo
+for d in $drivings; do
+    touch "$tmp/fit"
+    awk -v d="$d" -v f="$fitfrom" '$1 == d && $3 > 0 { x = log($2); y = log($3); n++; sx += x; sy += y; sxx += x * x; sxy += x * y }
+         END { if (n >= 2) printf "fitted (%s): wall time ~ unknowns^%.2f over %d sizes m >= %d\n", d, (n * sxy - sx * sy) / (n * sxx - sx * sx), n, f;
+               else printf "fitted (%s): fewer than two sizes m >= %d reached the end of the path\n", d, f }' "$tmp/fit"
+done

@@ -9,3 +9,6 @@ EXTRA_DIST += tests/test_reactions.sh tests/test_run_exact.sh tests/studies/deg4
 # exact closure from the flat state: the tangent cone (docs/flatstart.md)
 TESTS += tests/test_flatstart.sh
 EXTRA_DIST += tests/test_flatstart.sh
+# the sparse start at the flat state for face poses (docs/flatstart.md)
+TESTS += tests/test_flatstart_sparse.sh
+EXTRA_DIST += tests/test_flatstart_sparse.sh

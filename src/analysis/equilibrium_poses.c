@@ -350,6 +350,19 @@ int sf_peq_kkt(sf_equil *q, const double *y, double p, double *HL, double *C)
     return finite_all(HL, (long)nx * nx) && finite_all(C, (long)q->ncon * nx) ? 0 : 1;
 }
 
+int sf_peq_jacobian_csc(sf_equil *q, const double *y, double p, const long **colptr,
+                        const int **rowind, const double **val, double *Fp)
+{
+    struct sf_peq *z = q->pz;
+    if (!finite_all(y, q->n) || !isfinite(p)) return SF_ENUMERIC;
+    assemble(q, y, p, NULL, 1, Fp);
+    if (!finite_all(z->T.val, z->T.nnz) || !finite_all(Fp, q->n)) return SF_ENUMERIC;
+    *colptr = z->T.colptr;
+    *rowind = z->T.rowind;
+    *val = z->T.val;
+    return SF_OK;
+}
+
 /* The blocks' patterns, once, from the Jacobian's: HL = rows and columns
  * below nx (lower triangle), C = rows from nx, columns below nx. */
 static int kkt_pattern(sf_equil *q)

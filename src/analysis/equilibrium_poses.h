@@ -44,6 +44,13 @@ int sf_equil_poses_start_flat(sf_equil *q, struct cont_solver *cs, double p0, do
  * SF_ENUMERIC on a non-finite value, SF_ENOMEM. */
 int sf_peq_kkt_csc(sf_equil *q, const double *y, double p, sf_csc *HL, sf_csc *C);
 
+/* The whole Jacobian dF/dy at (y, p) as CSC arrays of q (n = q->n
+ * columns, pattern fixed for the study, both triangles; valid until the
+ * next assembly) and dF/dp into Fp (q->n values).  For the sparse flat
+ * start (flatstart_sparse.h).  SF_OK or SF_ENUMERIC (non-finite value). */
+int sf_peq_jacobian_csc(sf_equil *q, const double *y, double p, const long **colptr,
+                        const int **rowind, const double **val, double *Fp);
+
 /* Used by equilibrium.c when q->pz is set. */
 int sf_peq_residual(sf_equil *q, const double *y, double p, double *F);
 int sf_peq_jacobian(sf_equil *q, const double *y, double p, SUNMatrix Jy, double *Fp);

@@ -5,6 +5,7 @@ src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibri
 	src/analysis/equilibrium_poses.c src/analysis/equilibrium_poses.h \
 	src/analysis/flatstart.c src/analysis/flatstart.h \
 	src/analysis/flatcone.c src/analysis/flatcone.h \
+	src/analysis/flatstart_sparse.c src/analysis/flatstart_sparse.h \
 	src/analysis/reactions.c src/analysis/reactions.h \
 	src/analysis/mobility.c src/analysis/mobility.h \
 	src/analysis/compare.c src/analysis/compare.h src/analysis/compare_impl.h \

@@ -22,6 +22,7 @@
 #include "run_boundary.h"
 #include "run_dynamics.h"
 #include "flatstart.h"
+#include "flatstart_sparse.h"
 #include "flatswitch.h"
 #include "mobility.h"
 #include "reactions.h"
@@ -617,11 +618,14 @@ static int run_equilibrium(run_ctx *r)
         if (rested && eq->pz) sf_equil_poses_lift(eq, y0);
     }
     const char *flat_start;
-    if (sf_study_string(s, "analysis.flat_start", "limit", &flat_start, err)) {
+    double flat_angle = 0.05;
+    if (sf_study_string(s, "analysis.flat_start", "limit", &flat_start, err) ||
+        sf_study_double(s, "analysis.flat_angle", 0.05, &flat_angle, err)) {
         free(y0);
         return err->code;
     }
     int direct = strcmp(flat_start, "direct") == 0;
+    int sparse = strcmp(flat_start, "sparse") == 0;   /* flatstart_sparse.h */
     if (!direct && (eq->pz ? sc->topo.nivertices > 0 : eq->nloop > 0) && F0norm <= flat_tol) {
         /* The flat state solves the exact problem at the start, but it is a
          * singular point of loop closure (multipliers of the second-order
@@ -645,8 +649,12 @@ static int run_equilibrium(run_ctx *r)
             free(y0);
             return err->code;
         }
-        rc = eq->pz ? sf_equil_poses_start_flat(eq, cs, start, p1, dir, tol, y0, err)
-                    : sf_equil_start_flat(eq, cs, start, p1, dir, tol, y0, fb, &fi, err);
+        if (sparse)
+            rc = sf_equil_poses_start_sparse(eq, cs, y0, start, 0.5 * fabs(r->seg_end - start), dir,
+                                             flat_angle, tol, y0, &fi, err);
+        else
+            rc = eq->pz ? sf_equil_poses_start_flat(eq, cs, start, p1, dir, tol, y0, err)
+                        : sf_equil_start_flat(eq, cs, start, p1, dir, tol, y0, fb, &fi, err);
         if (fi.note[0]) branch_note(r, "%s", fi.note);
         if (rc) {
             free(y0);

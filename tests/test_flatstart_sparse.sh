@@ -1,0 +1,77 @@
+#!/bin/sh
+# test_flatstart_sparse.sh - the sparse start at the flat state for face
+# poses (analysis.flat_start = "sparse", src/analysis/flatstart_sparse.c,
+# docs/flatstart.md): on the 2x2 and 3x3 Miura-ori of bench/miura-study.sh
+# (actuation of both groups) it follows the branch of the dense
+# tangent-cone start of the fold formulation (fold angles and probe at the
+# path's end to 1e-8 relative); the uniform driving of the periodic sheet
+# gives a periodic state (all straight folds one |angle|, all zigzag folds
+# another); asking for it in fold coordinates is a one-line error.
+# Output is TAP.
+src=${SF_SRCDIR:-$(dirname "$0")/..}
+bin=${SF_BUILDDIR:-.}/src/smoothfold
+tmp=$(mktemp -d) || exit 1
+trap 'rm -rf "$tmp"' EXIT
+i=0
+ok() { i=$((i + 1)); echo "ok $i - $1"; }
+nok() { i=$((i + 1)); echo "not ok $i - $1"; }
+# the last row of branch.tsv, from column $2 on (1-based), tab separated
+last() { awk -F'\t' -v c="$2" '/^#/ || $1 == "point" {next} {r = $c; for (k = c + 1; k <= NF; k++) r = r "\t" $k} END {print r}' "$1"; }
+col() { awk -F'\t' -v c="$2" '/^#/ {next} !h {for (k = 1; k <= NF; k++) if ($k == c) n = k; h = 1; next} {v = $n} END {print v}' "$1"; }
+echo "1..4"
+
+# 1-2: sparse start (poses) against the dense cone start (folds)
+compare() {   # m, end
+    m=$1; pend=$2
+    sh "$src/bench/miura-study.sh" "$m" >"$tmp/m$m.cfg"
+    "$bin" run "$tmp/m$m.cfg" -q -o "$tmp/s$m" --set 'solver.formulation="poses"' \
+        --set 'analysis.flat_start="sparse"' --set analysis.end="$pend" --set analysis.stability=false \
+        >"$tmp/s$m.out" 2>&1
+    st1=$?
+    "$bin" run "$tmp/m$m.cfg" -q -o "$tmp/f$m" --set analysis.end="$pend" --set analysis.stability=false \
+        >"$tmp/f$m.out" 2>&1
+    st2=$?
+    bs="$tmp/s$m/branch.tsv"; bf="$tmp/f$m/branch.tsv"
+    # columns: p, probe ux uy uz, then the fold angles (from theta1)
+    tc=$(awk -F'\t' '/^#/ {next} {for (k = 1; k <= NF; k++) if ($k == "theta1") print k; exit}' "$bf")
+    d=$(printf '%s\n%s\n' "$(last "$bs" 4 | cut -f1-4)	$(last "$bs" "$tc")" \
+                            "$(last "$bf" 4 | cut -f1-4)	$(last "$bf" "$tc")" |
+        awk -F'\t' 'NR == 1 {for (k = 1; k <= NF; k++) a[k] = $k; n = NF; next}
+                    NF != n {print "columns"; exit}
+                    {mx = 0; for (k = 1; k <= n; k++) if ((a[k] < 0 ? -a[k] : a[k]) > mx) mx = (a[k] < 0 ? -a[k] : a[k])
+                     d = 0; for (k = 1; k <= n; k++) {e = a[k] - $k; if (e < 0) e = -e; if (e > d) d = e}
+                     printf "%.3g\n", d / mx}')
+    if [ $st1 = 0 ] && [ $st2 = 0 ] && [ "$(col "$bs" type)" = EP ] && [ "$(col "$bs" p)" = "$pend" ] &&
+       grep -q '^# flat start (sparse)' "$bs" &&
+       awk -v d="$d" 'BEGIN {exit !(d != "" && d != "columns" && d + 0 <= 1e-8)}'; then
+        ok "miura ${m}x$m: sparse start (poses) = dense cone start (folds) at p = $pend, largest difference $d of the largest value (fold angles, probe)"
+    else
+        nok "miura ${m}x$m: sparse exit $st1, cone exit $st2, difference '$d'"
+        sed 's/^/#   /' "$tmp/s$m.out" "$tmp/f$m.out" | head -6
+    fi
+}
+compare 2 1
+compare 3 0.3
+
+# 3: the periodic sheet under uniform driving: straight folds (the first
+# 2m (2m - 1)) share one |angle|, zigzag folds another
+b="$tmp/s2/branch.tsv"
+tc=$(awk -F'\t' '/^#/ {next} {for (k = 1; k <= NF; k++) if ($k == "theta1") print k; exit}' "$b")
+spread=$(last "$b" "$tc" | awk -F'\t' '{for (k = 1; k <= NF; k++) {v = $k < 0 ? -$k : $k; g = k <= 12 ? 1 : 2
+                                           if (!(g in lo) || v < lo[g]) lo[g] = v; if (!(g in hi) || v > hi[g]) hi[g] = v}
+                                         printf "%.3g %.3g %.6g %.6g\n", (hi[1] - lo[1]) / hi[1], (hi[2] - lo[2]) / hi[2], hi[1], hi[2]}')
+if [ "$(last "$b" "$tc" | awk -F'\t' '{print NF}')" = 24 ] &&
+   echo "$spread" | awk '{exit !($1 <= 1e-9 && $2 <= 1e-9 && $3 > 0.1 && $4 > 0.1)}'; then
+    ok "miura 2x2 at p = 1: straight and zigzag folds each at one |angle| (relative spreads, angles: $spread)"
+else
+    nok "miura 2x2 periodic state: $spread"
+fi
+
+# 4: the sparse start needs face poses
+"$bin" run "$tmp/m2.cfg" -q -o "$tmp/x" --set 'analysis.flat_start="sparse"' >"$tmp/x.out" 2>&1
+st=$?
+if [ $st != 0 ] && [ "$(wc -l <"$tmp/x.out")" = 1 ] && grep -q 'analysis.flat_start = "sparse" needs solver.formulation = "poses"' "$tmp/x.out"; then
+    ok "sparse start in fold coordinates: exit $st, one line"
+else
+    nok "sparse start in fold coordinates: exit $st"; sed 's/^/#   /' "$tmp/x.out" | head -3
+fi
