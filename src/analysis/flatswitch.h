@@ -42,6 +42,10 @@
 #include "equilibrium.h"
 #include "sf_error.h"
 
+/* A solution is isolated (followed) when the smallest over the largest
+ * singular value of the reduced Jacobian is at least this. */
+#define SF_FLATSW_ISOL_MIN 1e-6
+
 typedef struct sf_flatsw {
     int homogeneous;      /* 1: b = 0, branches leave at p*; 0: driven, at p0 */
     int k, r;             /* first-order motions, independent second-order forms */
