@@ -21,3 +21,7 @@ TESTS += tests/test_sstab
 tests_test_sstab_SOURCES = tests/test_sstab.c
 tests_test_sstab_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_sstab_LDADD = $(SF_TEST_LIBS)
+
+# stability from the MUMPS inertia against the dense method along paths
+TESTS += tests/test_stab_inertia.sh
+EXTRA_DIST += tests/test_stab_inertia.sh

@@ -12,3 +12,10 @@ EXTRA_DIST += tests/test_flatstart.sh
 # the sparse start at the flat state for face poses (docs/flatstart.md)
 TESTS += tests/test_flatstart_sparse.sh
 EXTRA_DIST += tests/test_flatstart_sparse.sh
+
+# the local loop rows of a vertex and the sparse first-order mobility
+check_PROGRAMS += tests/test_mobility_sparse
+TESTS += tests/test_mobility_sparse
+tests_test_mobility_sparse_SOURCES = tests/test_mobility_sparse.c
+tests_test_mobility_sparse_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_mobility_sparse_LDADD = $(SF_TEST_LIBS)

@@ -11,6 +11,9 @@
  *  - a tangent space of dimension 5 in R^250: all its eigenvalues;
  *  - a tiny ARPACK iteration cap: the first attempt fails, a retry with a
  *    larger subspace converges to the same eigenvalues and says so;
+ *  - the bounded effort (inertia alone, eigenvalues when cheap): Morse
+ *    index, stability and det sign from the inertia, with and without
+ *    eigenvalues, and with an eigenvalue of H_c exactly at zero;
  *  - every attempt failing: stability unknown at a stable point (but the
  *    Morse index known), unstable by the inertia at an unstable one, and
  *    sf_sstab_eval still returns SF_OK.
@@ -236,6 +239,58 @@ static void test_sstab_unknown(void **state)
     }
 }
 
+/* SF_SSTAB_EIG_BOUNDED: stability, Morse index and the sign of det K(0)
+ * from the inertia alone, with the copy and the zero constraint row
+ * (rank 1 of 3 rows); eigenvalues only when the one short ARPACK attempt
+ * converges; with an eigenvalue of H_c exactly at 0 (the shift equal to
+ * the smallest eigenvalue of the short free chain) K(0) has a null pivot:
+ * not stable, det sign 0, the Morse index the eigenvalues below it. */
+static void test_sstab_bounded(void **state)
+{
+    (void)state;
+    const double shifts[] = {0.0, 0.05, 0.3, 2.0 - 2.0 * cos(M_PI / (L1 + 1))};
+    for (int c = 0; c < 4; c++) {
+        for (int cap = 0; cap < 2; cap++) {
+            pinned P;
+            make_pinned(&P, shifts[c]);
+            sf_sstab *st;
+            sf_error err;
+            sf_error_clear(&err);
+            /* cap: one restart at a tolerance it cannot meet, no eigenvalues */
+            sf_sstab_opts o = {.nev = 4, .effort = SF_SSTAB_EIG_BOUNDED, .maxiter = cap ? 1 : 0,
+                               .tol = cap ? 1e-15 : 0};
+            assert_int_equal(sf_sstab_create(&st, NCH, 3, &o, &err), SF_OK);
+            assert_int_equal(sf_sstab_eval(st, &P.H, &P.C, &err), SF_OK);
+            const sf_sstab_result *R = sf_sstab_get(st);
+            print_message("# bounded, s = %g, cap %d: stable %d, Morse index %d, det sign %d, "
+                          "null pivots at 0: %d, %d eigenvalues, %d solves %s\n", shifts[c], cap,
+                          R->stable, R->morse, R->det_sign, R->null_at_zero, R->neig, R->nop, R->reason);
+            assert_int_equal(R->status, SF_SSTAB_OK);
+            assert_int_equal(R->rank, 1);
+            assert_int_equal(R->dim, NCH - 1);
+            assert_true(R->attempts <= 1);
+            int below = 0; /* eigenvalues of H_c below 0 beyond round-off */
+            for (int i = 0; i < NCH - 1; i++) below += P.eig[i] < -1e-12;
+            if (c < 3) {
+                assert_int_equal(R->morse, P.morse);
+                assert_int_equal(R->stable, P.morse == 0);
+                assert_int_equal(R->null_at_zero, 0);
+                /* Haynsworth: neg(K(0)) = morse + rank */
+                assert_int_equal(R->det_sign, (P.morse + 1) % 2 ? -1 : 1);
+            } else {
+                assert_true(R->null_at_zero >= 1);
+                assert_int_equal(R->morse, below);
+                assert_int_equal(R->stable, 0);
+                assert_int_equal(R->det_sign, 0);
+            }
+            if (cap) assert_int_equal(R->neig, 0);
+            if (R->neig) check_eigs(R, &P, 4);
+            if (!cap && c < 3) assert_int_equal(R->neig, 4); /* well separated spectra */
+            sf_sstab_free(st);
+        }
+    }
+}
+
 /* A tangent space smaller than ARPACK's usual subspace: the chain of 250
  * nodes with all but a free pair {10, 11} and a free triple {100, 101,
  * 102} pinned.  H_c is block diagonal: [2 -1; -1 2] (1, 3) and the
@@ -311,6 +366,7 @@ int main(void)
         cmocka_unit_test(test_sstab_retry),
         cmocka_unit_test(test_sstab_unknown),
         cmocka_unit_test(test_sstab_small_tangent),
+        cmocka_unit_test(test_sstab_bounded),
         cmocka_unit_test(test_sstab_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

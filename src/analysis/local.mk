@@ -8,7 +8,7 @@ src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibri
 	src/analysis/flatcone_rays.c src/analysis/flatcone_impl.h \
 	src/analysis/flatstart_sparse.c src/analysis/flatstart_sparse.h \
 	src/analysis/reactions.c src/analysis/reactions.h \
-	src/analysis/mobility.c src/analysis/mobility.h \
+	src/analysis/mobility.c src/analysis/mobility.h src/analysis/mobility_sparse.c \
 	src/analysis/compare.c src/analysis/compare.h src/analysis/compare_impl.h \
 	src/analysis/compare_read.c src/analysis/compare_eval.c src/analysis/compare_write.c \
 	src/analysis/stability.c src/analysis/stability.h \

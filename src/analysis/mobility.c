@@ -7,6 +7,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <SuiteSparseQR_C.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -34,6 +35,7 @@ extern void dgelss_(const int *m, const int *n, const int *nrhs, double *a, cons
 #define MOB_LIMIT_IT 400    /* Newton iterations of one limit problem */
 #define MOB_CERT_IT 300     /* gradient steps of the prestress certificate */
 #define MOB_CERT_TOL 1e-7   /* locked when lambda_min of the stress matrix exceeds this */
+#define MOB_LOCAL_MAX 64    /* coordinates of one vertex (sf_constraints_vertex) */
 
 /* Work space and the problem of one analysis: coordinates C (global
  * indices) and rows R of the loop constraints. */
@@ -41,6 +43,9 @@ typedef struct probe {
     const sf_model *m;
     sf_kin k;
     int nq, ncon;
+    int vertex;               /* >= 0: the rows of this vertex alone, evaluated locally */
+    int lcols[MOB_LOCAL_MAX]; /* its local columns (sf_constraints_vertex) */
+    double *lJ, *lH;          /* 6 x MOB_LOCAL_MAX, MOB_LOCAL_MAX^2 */
     double lref;
     double *q, *g, *J;        /* full state, all rows, full Jacobian */
     int nc, nr;
@@ -55,9 +60,36 @@ static double row_scale(const probe *P, int r) { return r % 6 < 3 ? 1.0 : 1.0 / 
 
 /* Scaled rows R at P->q into out (nr), Jacobian (nr x nc, column-major
  * with leading dimension ld) into A when not NULL. */
+static int local_col(const probe *P, int nl, int gcol)
+{
+    for (int a = 0; a < nl; a++)
+        if (P->lcols[a] == gcol) return a;
+    return -1;
+}
+
 static void eval_rows(probe *P, double *out, double *A, int ld)
 {
     sf_kin_eval(P->m, P->q, A ? 1 : 0, &P->k);
+    if (P->vertex >= 0) {
+        /* one vertex: its six rows over its own columns, nothing of size nq */
+        double g[6];
+        int nl = 0;
+        if (sf_constraints_vertex(P->m, &P->k, P->vertex, g, P->lcols, &nl, A ? P->lJ : NULL,
+                                  NULL, NULL)) {
+            for (int i = 0; i < P->nr; i++) out[i] = NAN;
+            return;
+        }
+        for (int i = 0; i < P->nr; i++) {
+            double f = row_scale(P, P->R[i]);
+            out[i] = f * g[P->R[i] % 6];
+            if (A)
+                for (int j = 0; j < P->nc; j++) {
+                    int a = local_col(P, nl, P->C[j]);
+                    A[(size_t)j * ld + i] = a < 0 ? 0.0 : f * P->lJ[(size_t)(P->R[i] % 6) * nl + a];
+                }
+        }
+        return;
+    }
     sf_constraints(P->m, &P->k, P->g, A ? P->J : NULL, NULL, NULL, 0);
     for (int i = 0; i < P->nr; i++) {
         int r = P->R[i];
@@ -189,13 +221,17 @@ static int so_build(probe *P, const double *q0, second_order *so)
 {
     int nr = P->nr, nc = P->nc, nq = P->nq, info, lw = -1;
     memset(so, 0, sizeof *so);
+    int local = P->vertex >= 0;
     double *U = malloc(sizeof(double) * ((size_t)nr * nr + 1));
     double *w = calloc((size_t)P->ncon + 1, sizeof(double));
-    double *H = malloc(sizeof(double) * ((size_t)nq * nq + 1));
+    /* the whole sheet (small sheets only): the Hessians in nq x nq */
+    double *H = local ? NULL : malloc(sizeof(double) * ((size_t)nq * nq + 1));
+    double *Jl = malloc(sizeof(double) * ((size_t)nr * nc + 1));
     int rc = -1;
-    if (!U || !w || !H) goto done;
+    if (!U || !w || (!local && !H) || !Jl) goto done;
     memcpy(P->q, q0, sizeof(double) * (size_t)nq);
-    eval_rows(P, P->b, P->A, nr);       /* leaves P->J at q0 as well */
+    eval_rows(P, P->b, P->A, nr);
+    memcpy(Jl, P->A, sizeof(double) * (size_t)nr * nc); /* dgesvd overwrites A */
     double wq;
     dgesvd_("A", "A", &nr, &nc, P->A, &nr, P->S, U, &nr, P->VT, &nc, &wq, &lw, &info);
     if (info != 0 || lapack_work(P, (int)wq + 1)) goto done;
@@ -218,8 +254,7 @@ static int so_build(probe *P, const double *q0, second_order *so)
     for (int c = 0; c < n1; c++)
         for (int j = 0; j < nc; j++) {
             double v = 0.0;
-            for (int i = 0; i < nr; i++)
-                v += U[(size_t)c * nr + i] * row_scale(P, P->R[i]) * P->J[(size_t)P->R[i] * nq + P->C[j]];
+            for (int i = 0; i < nr; i++) v += U[(size_t)c * nr + i] * Jl[(size_t)j * nr + i];
             so->J1[(size_t)c * nc + j] = v;
         }
     for (int a = 0; a < nn; a++)
@@ -228,13 +263,33 @@ static int so_build(probe *P, const double *q0, second_order *so)
     double *GZ = malloc(sizeof(double) * ((size_t)nc * nn + 1));
     if (!GZ) goto done;
     for (int s2 = 0; s2 < n2; s2++) {
-        memset(w, 0, sizeof(double) * (size_t)P->ncon);
-        for (int i = 0; i < nr; i++) w[P->R[i]] = U[(size_t)(n1 + s2) * nr + i] * row_scale(P, P->R[i]);
-        memset(H, 0, sizeof(double) * (size_t)nq * nq);
-        sf_constraints(P->m, &P->k, NULL, NULL, w, H, nq);
         double *Gs = so->G + (size_t)s2 * nc * nc;
-        for (int a = 0; a < nc; a++)
-            for (int b = 0; b < nc; b++) Gs[(size_t)a * nc + b] = H[(size_t)P->C[a] * nq + P->C[b]];
+        if (local) {
+            double w6[6] = {0};
+            for (int i = 0; i < nr; i++)
+                w6[P->R[i] % 6] = U[(size_t)(n1 + s2) * nr + i] * row_scale(P, P->R[i]);
+            int nl = 0;
+            memset(P->lH, 0, sizeof(double) * MOB_LOCAL_MAX * MOB_LOCAL_MAX);
+            if (sf_constraints_vertex(P->m, &P->k, P->vertex, NULL, P->lcols, &nl, NULL, w6, P->lH)) {
+                free(GZ);
+                goto done;
+            }
+            for (int a = 0; a < nc; a++) {
+                int la = local_col(P, nl, P->C[a]);
+                for (int b = 0; b < nc; b++) {
+                    int lb = local_col(P, nl, P->C[b]);
+                    Gs[(size_t)a * nc + b] = la < 0 || lb < 0 ? 0.0 : P->lH[(size_t)la * nl + lb];
+                }
+            }
+        } else {
+            memset(w, 0, sizeof(double) * (size_t)P->ncon);
+            for (int i = 0; i < nr; i++)
+                w[P->R[i]] = U[(size_t)(n1 + s2) * nr + i] * row_scale(P, P->R[i]);
+            memset(H, 0, sizeof(double) * (size_t)nq * nq);
+            sf_constraints(P->m, &P->k, NULL, NULL, w, H, nq);
+            for (int a = 0; a < nc; a++)
+                for (int b = 0; b < nc; b++) Gs[(size_t)a * nc + b] = H[(size_t)P->C[a] * nq + P->C[b]];
+        }
         for (int a = 0; a < nc; a++)
             for (int k2 = 0; k2 < nn; k2++) {
                 double v = 0.0;
@@ -255,6 +310,7 @@ done:
     free(U);
     free(w);
     free(H);
+    free(Jl);
     if (rc) so_free(so);
     return rc;
 }
@@ -546,20 +602,28 @@ int sf_mobility_analyse(const sf_model *m, const double *q0in, sf_mobility *mb, 
     P.lref = 0.0;
     for (int i = 0; i < m->nfolds; i++) P.lref += m->study->folds[i].width / m->nfolds;
     if (!(P.lref > 0)) P.lref = 1.0;
-    size_t big = (size_t)(ncon + 1) * (nq + 1) + 1;
+    /* above SF_MOBILITY_DENSE_MAX: nothing of size nq^2 (each vertex is
+     * analysed locally, the whole sheet to first order, sparse) */
+    int dense = nq <= SF_MOBILITY_DENSE_MAX;
+    mb->probed = dense || ncon == 0;
+    size_t big = dense ? (size_t)(ncon + 1) * (nq + 1) + 1
+                       : (size_t)(6 + 2) * (MOB_LOCAL_MAX + 1) + 1;
     double *q0 = calloc((size_t)nq + 1, sizeof(double));
     P.q = calloc((size_t)nq + 1, sizeof(double));
     P.g = calloc((size_t)ncon + 1, sizeof(double));
-    P.J = calloc(big, sizeof(double));
+    P.J = calloc(dense ? big : 1, sizeof(double));
+    P.lJ = calloc(6 * MOB_LOCAL_MAX, sizeof(double));
+    P.lH = calloc(MOB_LOCAL_MAX * MOB_LOCAL_MAX, sizeof(double));
     P.C = malloc(sizeof(int) * ((size_t)nq + 1));
     P.R = malloc(sizeof(int) * ((size_t)ncon + 1));
     P.A = calloc(big, sizeof(double));
     P.b = calloc((size_t)ncon + nq + 2, sizeof(double));
     P.S = calloc((size_t)ncon + nq + 2, sizeof(double));
-    P.VT = calloc((size_t)nq * nq + 1, sizeof(double));
+    P.VT = dense ? calloc((size_t)nq * nq + 1, sizeof(double))
+                 : calloc(MOB_LOCAL_MAX * MOB_LOCAL_MAX + 1, sizeof(double));
     int rc = SF_OK;
     if (!mb->v || !q0 || !P.q || !P.g || !P.J || !P.C || !P.R || !P.A || !P.b || !P.S || !P.VT ||
-        sf_kin_alloc(m, &P.k)) {
+        !P.lJ || !P.lH || sf_kin_alloc(m, &P.k)) {
         rc = sf_fail(err, SF_ENOMEM, "out of memory");
         goto done;
     }
@@ -572,7 +636,7 @@ int sf_mobility_analyse(const sf_model *m, const double *q0in, sf_mobility *mb, 
         sf_params par;
         sf_error eerr;
         sf_error_clear(&eerr);
-        if (sf_energy_init(&e, m, &eerr) == SF_OK) {
+        if (dense && sf_energy_init(&e, m, &eerr) == SF_OK) {
             if (sf_params_alloc(&e, &par) == SF_OK) {
                 P.Hs = calloc((size_t)nq * nq + 1, sizeof(double));
                 P.gs = calloc((size_t)nq + 1, sizeof(double));
@@ -614,6 +678,13 @@ int sf_mobility_analyse(const sf_model *m, const double *q0in, sf_mobility *mb, 
         }
         P.nr = 6;
         for (int e = 0; e < 6; e++) P.R[e] = 6 * v + e;
+        P.vertex = v;
+        if (P.nc > MOB_LOCAL_MAX) {
+            rc = sf_fail(err, SF_EINPUT, "%s: mobility: vertex %s has %d coordinates, more than "
+                         "%d", m->study->path, m->study->vertices[iv->vertex].name, P.nc,
+                         MOB_LOCAL_MAX);
+            goto done;
+        }
         sf_mobility_vertex *mv = &mb->v[v];
         mv->ivertex = v;
         mv->coords = P.nc;
@@ -624,6 +695,13 @@ int sf_mobility_analyse(const sf_model *m, const double *q0in, sf_mobility *mb, 
         mb->nlocked += mv->dof == 0;
     }
     /* the whole sheet */
+    P.vertex = -1;
+    if (!dense && ncon > 0) {
+        mb->dof = -1;
+        mb->gap = -1.0;
+        rc = sf_mobility_first_order(m, q0, &mb->first_order, err);
+        goto done;
+    }
     P.nc = nq;
     for (int j = 0; j < nq; j++) P.C[j] = j;
     P.nr = ncon;
@@ -650,6 +728,8 @@ done:
     free(P.work);
     free(P.Hs);
     free(P.gs);
+    free(P.lJ);
+    free(P.lH);
     if (rc) sf_mobility_free(mb);
     return rc;
 }

@@ -31,6 +31,12 @@
  *    extra freedom).
  *  - Neither: undecided (dof = -1; locking, if any, of higher order, or a
  *    motion the probe did not find), with the smallest residual found.
+ * Scale: each vertex's rows are evaluated locally (sf_constraints_vertex:
+ * its own columns, no ncon x nq array), so the per-vertex analyses cost
+ * O(nq) each (the kinematics of the whole sheet per evaluation); the
+ * whole sheet's second-order probe is dense in nq and runs up to
+ * SF_MOBILITY_DENSE_MAX coordinates, above which the whole sheet gets its
+ * first-order count from the sparse rank (mobility_sparse.c) only.
  * A finite-width vertex with K = 0 and no two folds on one line has as many
  * fold angles as its degree against six loop equations: below degree 7 it
  * is locked in general (tests/studies/deg4.cfg); K >= 1 adds coordinates.
@@ -64,7 +70,23 @@ typedef struct sf_mobility {
     int nvertices;
     sf_mobility_vertex *v;
     int nlocked;        /* vertices whose own rows lock their folds */
+    int probed;         /* 1: the whole sheet's second-order probe ran (up to
+                           SF_MOBILITY_DENSE_MAX coordinates); 0: first order
+                           only (sparse rank), dof = -1 */
 } sf_mobility;
+
+/* The whole sheet's second-order probe (dense in nq) runs up to this many
+ * coordinates; above, its first-order count comes from the sparse rank
+ * (sf_mobility_first_order) and its dof stays undecided.  Each vertex
+ * alone is analysed at every size, locally (sf_constraints_vertex). */
+#define SF_MOBILITY_DENSE_MAX 100
+
+/* nq - rank of the scaled loop rows at q (NULL: the flat sheet), with no
+ * array of size nq^2: the rows assembled sparse vertex by vertex
+ * (sf_constraints_vertex), the rank from SuiteSparseQR of J^T with Heath's
+ * rank detection at 1e-8 times the longest row (the dense analysis: SVD,
+ * 1e-8 times the largest singular value).  SF_ENOMEM, SF_ENUMERIC. */
+int sf_mobility_first_order(const sf_model *m, const double *q, int *first, sf_error *err);
 
 /* Analyse the loop constraints of m about q0 (nq values; NULL: the flat
  * sheet), which must close the loops.  Fails with SF_EINPUT when q0 does

@@ -18,6 +18,8 @@
 #define NULL_TOL 1e-12     /* MUMPS null pivot threshold (CNTL(3)) */
 #define SHIFT_REL 1e-6     /* sigma0 = -SHIFT_REL * max |diag HL| */
 #define EXTRA 6            /* eigenvalues computed beyond those wanted */
+#define BOUNDED_ITERS 10   /* ARPACK restarts of the one attempt with SF_SSTAB_EIG_BOUNDED */
+#define BOUNDED_BELOW 8    /* factorisations of the search for a shift below the spectrum, bounded */
 
 struct sf_sstab {
     int n, m;
@@ -67,6 +69,11 @@ int sf_sstab_create(sf_sstab **out, int n, int m, const sf_sstab_opts *opts, sf_
     if (s->o.maxiter < 1) s->o.maxiter = 1000;
     if (s->o.attempts < 1) s->o.attempts = 4;
     if (!(s->o.tol > 0)) s->o.tol = 1e-10;
+    if (s->o.effort == SF_SSTAB_EIG_BOUNDED) {
+        /* one attempt, a few restarts: eigenvalues only when they come cheap */
+        s->o.attempts = 1;
+        if (!opts || opts->maxiter < 1) s->o.maxiter = BOUNDED_ITERS;
+    }
     s->rs = calloc((size_t)m + 1, sizeof(double));
     s->rnew = calloc((size_t)m + 1, sizeof(int));
     s->b = calloc((size_t)(n + m) + 1, sizeof(double));
@@ -466,10 +473,14 @@ static int eigen_attempts(sf_sstab *s, double sigma0, int morse0, int *done, sf_
          * bounds the search) */
         double step = SHIFT_REL * s->scale, t = sigma0;
         int ng = 0, nn = 0, cnt = morse0;
-        for (int it = 0; it < 60 && cnt > 0; it++, step *= 4.0) {
+        int bounded = s->o.effort == SF_SSTAB_EIG_BOUNDED;
+        int maxit = bounded ? BOUNDED_BELOW : 60;
+        double grow = bounded ? 8.0 : 4.0; /* bounded: 8 steps reach 2 max|diag HL| */
+        for (int it = 0; it < maxit && cnt > 0; it++, step *= grow) {
             t = sigma0 - step;
             if (t < s->gersh) {
                 t = s->gersh - 1e-3 * s->scale;
+                cnt = 0; /* below the Gershgorin bound: below every eigenvalue */
                 break;
             }
             if (factor_at(s, t, &ng, &nn, &e2)) {
@@ -481,6 +492,10 @@ static int eigen_attempts(sf_sstab *s, double sigma0, int morse0, int *done, sf_
                 continue;
             }
             cnt = nn == 0 ? ng - R->rank : 1;
+        }
+        if (cnt > 0 && s->o.effort == SF_SSTAB_EIG_BOUNDED) {
+            add_reason(R, "no shift below the spectrum within %d factorisations", maxit);
+            goto out;
         }
         s->below = t;
         fs = NAN;
@@ -591,8 +606,6 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
         R->status = SF_SSTAB_OK;
         return SF_OK;
     }
-    /* inertia at sigma0; a null pivot (Cr is independent, so it means an
-     * eigenvalue of H_c at sigma0) moves the shift once */
     /* inertia at 0 (the index counts eigenvalues < 0, as the dense method);
      * a null pivot (Cr is independent, so it means an eigenvalue of H_c at
      * the shift: a mechanism) moves the shift just below zero */
@@ -604,6 +617,12 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
     for (int i = 0; i < 3; i++) {
         sigma0 = shifts[i];
         rc = factor_at(s, sigma0, &neg, &nnull, &e2);
+        if (!rc && i == 0) {
+            sf_ldlt_info in;
+            sf_ldlt_get_info(s->f, &in);
+            R->det_sign = in.det_sign;
+            R->null_at_zero = nnull;
+        }
         if (rc || nnull == 0) break;
     }
     if (rc == SF_ENOMEM) return sf_fail(err, rc, "%s", e2.msg);
@@ -629,7 +648,15 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
     size_t len = strlen(R->reason);
     while (len > 0 && (R->reason[len - 1] == ' ' || R->reason[len - 1] == ';'))
         R->reason[--len] = '\0';
-    if (done) {
+    if (s->o.effort == SF_SSTAB_EIG_BOUNDED) {
+        /* the inertia decides; eigenvalues only if they came within the bound */
+        R->status = SF_SSTAB_OK;
+        if (!done) {
+            R->neig = 0;
+            R->morse = morse0;
+        }
+        R->stable = R->morse == 0 && R->null_at_zero == 0;
+    } else if (done) {
         R->status = R->attempts > 1 ? SF_SSTAB_RETRIED : SF_SSTAB_OK;
         R->stable = R->morse == 0 && R->eig[0] > 0.0;
     } else {

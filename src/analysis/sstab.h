@@ -35,7 +35,10 @@
  * Stability: unstable when the Morse index is positive (from the
  * inertia alone, so also when ARPACK failed); stable when it is 0 and the
  * smallest eigenvalue is positive; unknown when the eigenvalues could not
- * be computed and the index is 0, or when the factorisation failed.  An
+ * be computed and the index is 0, or when the factorisation failed.
+ * With SF_SSTAB_EIG_BOUNDED the inertia decides alone: stable when the
+ * Morse index is 0 and K(0) has no null pivot (H_c positive definite),
+ * unstable otherwise (an eigenvalue 0 to round-off is not stable).  An
  * unknown stability is not an error: sf_sstab_eval returns SF_OK with
  * res.status = SF_SSTAB_UNKNOWN and the reason.  Errors (a non-zero
  * return) are bad arguments, non-finite entries and lack of memory.
@@ -55,12 +58,22 @@ typedef struct sf_csc {
 
 enum { SF_SSTAB_OK = 0, SF_SSTAB_RETRIED = 1, SF_SSTAB_UNKNOWN = 2 };
 
+/* How hard to try for the eigenvalues (sf_sstab_opts.effort). */
+enum {
+    SF_SSTAB_EIG_FULL = 0,    /* ARPACK attempts (retries, deflation) until found or spent */
+    SF_SSTAB_EIG_BOUNDED = 1  /* stability and Morse index from the inertia alone; the
+                                 eigenvalues only when ONE ARPACK attempt of at most
+                                 maxiter restarts (0: 10) converges and passes the Sturm
+                                 check, else none (neig = 0, status still OK) */
+};
+
 typedef struct sf_sstab_opts {
     int nev;        /* smallest eigenvalues wanted (>= 1) */
     int maxiter;    /* ARPACK restarts per attempt (0: 1000) */
     int attempts;   /* ARPACK attempts in all (0: 4) */
     double tol;     /* ARPACK relative tolerance (0: 1e-10; eigenvalue errors are at most
                        tol times their distance to the shift, Bauer-Fike) */
+    int effort;     /* SF_SSTAB_EIG_FULL (0) or SF_SSTAB_EIG_BOUNDED */
 } sf_sstab_opts;
 
 typedef struct sf_sstab_result {
@@ -71,6 +84,9 @@ typedef struct sf_sstab_result {
     int rank;          /* rank of C */
     int dim;           /* n - rank */
     int null_pivots;   /* null pivots of K(sigma0) (0 unless sigma0 hits an eigenvalue) */
+    int null_at_zero;  /* null pivots of K(0): H_c has an eigenvalue 0 to round-off */
+    int det_sign;      /* sign of det K(0), K(0) = [HL, Cr^T; Cr, 0], from the same LDL^T:
+                          (-1)^neg(K(0)) = (-1)^(morse + rank); 0 when K(0) is singular */
     int neig;          /* eigenvalues in eig (0 when ARPACK failed) */
     double *eig;       /* [nev] smallest eigenvalues of H_c, ascending */
     int attempts;      /* ARPACK attempts made (1 = first try converged) */

@@ -37,7 +37,28 @@ static size_t dense_work(int nqi, int nci)
 
 const char *sf_stab_method_name(int method)
 {
-    return method == SF_EIG_DENSE ? "dense" : method == SF_EIG_ARPACK ? "arpack" : "auto";
+    return method == SF_EIG_DENSE     ? "dense"
+           : method == SF_EIG_ARPACK  ? "arpack"
+           : method == SF_EIG_INERTIA ? "inertia"
+                                      : "auto";
+}
+
+/* The method that runs for a problem of nq coordinates. */
+static int resolved_method(int method, int nq)
+{
+    if (method != SF_EIG_AUTO) return method;
+    return nq > SF_EIG_DENSE_MAX ? SF_EIG_INERTIA : SF_EIG_DENSE;
+}
+
+/* The sparse solver, created at the first use. */
+static int sparse_solver(sf_stab *st, sf_error *err)
+{
+    if (st->sp) return SF_OK;
+    int m = resolved_method(st->method, st->nq);
+    sf_sstab_opts o = {.nev = st->nev, .maxiter = st->arpack_maxiter,
+                       .attempts = st->arpack_attempts,
+                       .effort = m == SF_EIG_INERTIA ? SF_SSTAB_EIG_BOUNDED : SF_SSTAB_EIG_FULL};
+    return sf_sstab_create(&st->sp, st->nq, st->ncon, &o, err);
 }
 
 int sf_stab_init(sf_stab *st, const sf_equil *q, int method, int nev, sf_error *err)
@@ -50,7 +71,7 @@ int sf_stab_init(sf_stab *st, const sf_equil *q, int method, int nev, sf_error *
     size_t nq = (size_t)q->nq, nc = (size_t)q->ncon, N = nq + nc;
     /* scratch for the method that will run; the dense one (also the
      * fallback of ARPACK) grows it when it needs more (dense_work) */
-    int dense = method == SF_EIG_DENSE || (method == SF_EIG_AUTO && q->nq <= SF_EIG_DENSE_MAX);
+    int dense = resolved_method(method, q->nq) == SF_EIG_DENSE;
     /* face poses above the dense size: the sparse blocks go to sstab.h
      * directly (sf_peq_kkt_csc), nothing of size nq^2 */
     st->sparse_kkt = q->pz && !dense;
@@ -183,9 +204,9 @@ static void dense_to_csc(const double *A, int nrow, int ncol, int lower, int *cp
 }
 
 /* The sparse solver's verdict as this point's result. */
-static void take_sparse_result(sf_stab_result *R, const sf_sstab_result *S)
+static void take_sparse_result(sf_stab_result *R, const sf_sstab_result *S, int method)
 {
-    R->method = SF_EIG_ARPACK;
+    R->method = method;
     R->rank = S->rank;
     R->dim = S->dim;
     R->morse = S->morse < 0 ? 0 : S->morse;
@@ -206,12 +227,8 @@ static int eval_arpack(sf_stab *st, sf_error *err)
 {
     int nq = st->nq, nc = st->ncon;
     sf_stab_result *R = &st->res;
-    if (!st->sp) {
-        sf_sstab_opts o = {.nev = st->nev, .maxiter = st->arpack_maxiter,
-                           .attempts = st->arpack_attempts};
-        int rc = sf_sstab_create(&st->sp, nq, nc, &o, err);
-        if (rc) return rc;
-    }
+    int rc = sparse_solver(st, err);
+    if (rc) return rc;
     int *cp = st->iwork, *ri = cp + nq + 1;
     double *v = st->work;
     dense_to_csc(st->HL, nq, nq, 1, cp, ri, v);
@@ -220,15 +237,16 @@ static int eval_arpack(sf_stab *st, sf_error *err)
     double *v2 = v + nh;
     dense_to_csc(st->C, nc, nq, 0, cp2, ri2, v2);
     sf_csc H = {nq, nq, cp, ri, v}, C = {nc, nq, cp2, ri2, v2};
-    int rc = sf_sstab_eval(st->sp, &H, nc > 0 ? &C : NULL, err);
+    rc = sf_sstab_eval(st->sp, &H, nc > 0 ? &C : NULL, err);
     if (rc) return rc;
     const sf_sstab_result *S = sf_sstab_get(st->sp);
     /* a tangent space too small for ARPACK, or an inertia that could not
      * be trusted (constraint rows near the rank cut, e.g. just off the
      * flat state): the dense method (SVD) decides */
-    if (S->neig == 0 && S->dim > 0 && S->dim < st->nev + 3) return -1;
+    int method = resolved_method(st->method, nq);
+    if (S->neig == 0 && S->dim > 0 && S->dim < st->nev + 3 && method == SF_EIG_ARPACK) return -1;
     if (S->status == SF_SSTAB_UNKNOWN && S->morse < 0) return -1;
-    take_sparse_result(R, S);
+    take_sparse_result(R, S, method);
     return SF_OK;
 }
 
@@ -242,15 +260,12 @@ static int eval_sparse_kkt(sf_stab *st, sf_equil *q, const double *y, double p, 
     int rc = sf_peq_kkt_csc(q, y, p, &H, &C);
     if (rc == SF_ENOMEM) return sf_fail(err, SF_ENOMEM, "out of memory");
     if (rc) return sf_fail(err, SF_ENUMERIC, "stability: non-finite Hessian at p = %g", p);
-    if (!st->sp) {
-        sf_sstab_opts o = {.nev = st->nev, .maxiter = st->arpack_maxiter,
-                           .attempts = st->arpack_attempts};
-        if ((rc = sf_sstab_create(&st->sp, st->nq, st->ncon, &o, err))) return rc;
-    }
+    if ((rc = sparse_solver(st, err))) return rc;
     if ((rc = sf_sstab_eval(st->sp, &H, st->ncon > 0 ? &C : NULL, err))) return rc;
     const sf_sstab_result *S = sf_sstab_get(st->sp);
-    take_sparse_result(R, S);
-    if (S->neig == 0 && S->dim > 0 && R->reason[0] == '\0')
+    int method = resolved_method(st->method, st->nq);
+    take_sparse_result(R, S, method);
+    if (S->neig == 0 && S->dim > 0 && R->reason[0] == '\0' && method == SF_EIG_ARPACK)
         snprintf(R->reason, sizeof R->reason, "tangent space of dimension %d too small for "
                  "ARPACK (%d eigenvalues wanted)", S->dim, st->nev);
     return SF_OK;
@@ -261,9 +276,8 @@ int sf_stab_eval(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *
     if (st->sparse_kkt) return eval_sparse_kkt(st, q, y, p, err);
     if (sf_equil_kkt(q, y, p, st->HL, st->C))
         return sf_fail(err, SF_ENUMERIC, "stability: non-finite Hessian at p = %g", p);
-    int method = st->method;
-    if (method == SF_EIG_AUTO) method = st->nq > SF_EIG_DENSE_MAX ? SF_EIG_ARPACK : SF_EIG_DENSE;
-    if (method == SF_EIG_ARPACK) {
+    int method = resolved_method(st->method, st->nq);
+    if (method == SF_EIG_ARPACK || method == SF_EIG_INERTIA) {
         int rc = eval_arpack(st, err);
         if (rc >= 0) return rc;
         /* too small a tangent space for ARPACK, or a singular KKT matrix

@@ -21,7 +21,13 @@
  *    (redundant constraint rows show as null pivots), ARPACK's operator is
  *    a MUMPS solve, and a non-converged ARPACK run is retried, then
  *    marked unknown (res.status, res.reason) instead of failing.
- * SF_EIG_AUTO uses dense up to SF_EIG_DENSE_MAX coordinates, ARPACK
+ *  - inertia (SF_EIG_INERTIA): the same MUMPS factorisation, but
+ *    stability and Morse index from its inertia alone (Sylvester:
+ *    neg(K(0)) = morse + rank C), one LDL^T per point; the eigenvalues
+ *    only when one short ARPACK attempt converges (sstab.h,
+ *    SF_SSTAB_EIG_BOUNDED), else none (empty eig columns).  For large
+ *    sheets, whose eigenvalue clusters make ARPACK slow.
+ * SF_EIG_AUTO uses dense up to SF_EIG_DENSE_MAX coordinates, inertia
  * above; ARPACK falls back to dense when the tangent space is too small for
  * it (fewer than nev + 2 dimensions).  Measured on square4 with K = 2 (72
  * coordinates, 74 points): ARPACK 0.35 s, dense 0.17 s, no stability
@@ -34,7 +40,7 @@
 #include "sf_error.h"
 #include "sstab.h"
 
-enum { SF_EIG_AUTO = 0, SF_EIG_DENSE = 1, SF_EIG_ARPACK = 2 };
+enum { SF_EIG_AUTO = 0, SF_EIG_DENSE = 1, SF_EIG_ARPACK = 2, SF_EIG_INERTIA = 3 };
 /* Dense up to 1000 coordinates: on Miura-ori sheets (penalty closure, the
  * whole space free, bench/stability-sparse.sh) the dense method costs
  * 0.1 s per point at 528 coordinates and 0.55 s at 960, while MUMPS +

@@ -37,7 +37,9 @@ static int print_mobility(const sf_scene *sc, sf_error *err)
     const sf_study *s = &sc->study;
     const sf_topology *t = &sc->topo;
     printf("mobility with exact loop closure, about the flat sheet: ");
-    print_dof(mb.dof, mb.first_order, mb.gap, mb.radius);
+    if (mb.probed) print_dof(mb.dof, mb.first_order, mb.gap, mb.radius);
+    else printf("%d at first order (sparse rank; the second-order probe of the whole sheet runs "
+                "up to %d coordinates)", mb.first_order, SF_MOBILITY_DENSE_MAX);
     printf("\n");
     for (int v = 0; v < mb.nvertices; v++) {
         const sf_mobility_vertex *mv = &mb.v[v];

@@ -59,7 +59,8 @@ typedef struct run_ctx {
     long nbound;          /* steps so bounded */
     sf_stab stab2;        /* the second evaluation of the step bound */
     sf_stab stab;
-    long neig_method[3];  /* points analysed by each SF_EIG_* method */
+    long neig_method[4];  /* points analysed by each SF_EIG_* method */
+    long neig_inertia;    /* of those by the inertia method: with eigenvalues */
     /* branches (numbering, branch points, switching) and the Morse-index
      * check between consecutive points (bifurcation.h) */
     sf_bif bif;
@@ -211,6 +212,7 @@ static int on_point(const cont_point *pt, void *data)
             return 1;
         }
         r->neig_method[r->stab.res.method]++;
+        r->neig_inertia += r->stab.res.method == SF_EIG_INERTIA && r->stab.res.neig > 0;
         const sf_stab_result *S = &r->stab.res;
         if (S->status != SF_SSTAB_OK)
             branch_note(r, "stability at row %ld (branch %d, p = %.10g): %s after %d ARPACK "
@@ -542,7 +544,9 @@ static int run_equilibrium(run_ctx *r)
         }
     if (r->do_stab) {
         int meth = strcmp(eigsolver, "dense") == 0 ? SF_EIG_DENSE
-                 : strcmp(eigsolver, "arpack") == 0 ? SF_EIG_ARPACK : SF_EIG_AUTO;
+                 : strcmp(eigsolver, "arpack") == 0  ? SF_EIG_ARPACK
+                 : strcmp(eigsolver, "inertia") == 0 ? SF_EIG_INERTIA
+                                                     : SF_EIG_AUTO;
         if (sf_stab_init(&r->stab, eq, meth, nev > 0 ? nev : 1, err)) return err->code;
         if (r->step_bound && sf_stab_init(&r->stab2, eq, meth, nev > 0 ? nev : 1, err)) {
             r->step_bound = 0;
@@ -704,9 +708,11 @@ static int write_outputs(run_ctx *r)
     sf_outbuf_printf(&out, "%s", r->header.s ? r->header.s : "");
     if (r->bnotes.n) sf_outbuf_printf(&out, "%.*s", (int)r->bnotes.n, r->bnotes.s);
     if (r->do_stab)
-        sf_outbuf_printf(&out, "# stability: %ld points by the dense LAPACK method, %ld by ARPACK "
-                        "(analysis.eigensolver)\n", r->neig_method[SF_EIG_DENSE],
-                  r->neig_method[SF_EIG_ARPACK]);
+        sf_outbuf_printf(&out, "# stability: %ld points by the dense LAPACK method, %ld by ARPACK, "
+                         "%ld by the MUMPS inertia (eigenvalues at %ld of them) "
+                         "(analysis.eigensolver)\n", r->neig_method[SF_EIG_DENSE],
+                         r->neig_method[SF_EIG_ARPACK], r->neig_method[SF_EIG_INERTIA],
+                         r->neig_inertia);
     if (r->do_stab && r->step_bound)
         sf_outbuf_printf(&out, "# step bound: %ld steps shortened to end between two predicted "
                          "eigenvalue crossings (analysis.step_bound)\n", r->nbound);

@@ -736,6 +736,59 @@ void sf_constraints(const sf_model *m, const sf_kin *k, double *g, double *J,
     }
 }
 
+int sf_constraints_vertex(const sf_model *m, const sf_kin *k, int v, double g[6], int *cols,
+                          int *ncols, double *J, const double *lambda, double *H)
+{
+    int order = (lambda && H) ? 2 : J ? 1 : 0;
+    chain c;
+    if (loop_chain(m, k, v, order, &c)) {
+        chain_free(&c);
+        return SF_ENOMEM;
+    }
+    /* distinct columns, in chain order; pos[r] = local column of coordinate r */
+    int nc = 0, pos[64];
+    if (c.n > 64) {
+        chain_free(&c);
+        return SF_ENOMEM;
+    }
+    for (int r = 0; r < c.n; r++) {
+        int j = 0;
+        while (j < nc && cols[j] != c.coord[r]) j++;
+        if (j == nc) cols[nc++] = c.coord[r];
+        pos[r] = j;
+    }
+    *ncols = nc;
+    const double *o = m->study->vertices[m->topo->ivertices[v].vertex].x;
+    double Lv[12];
+    about_vertex(c.L, o, 0, Lv);
+    if (g) loop_g(Lv, g);
+    if (J) {
+        memset(J, 0, sizeof(double) * 6 * (size_t)nc);
+        for (int r = 0; r < c.n; r++) {
+            double D[12], Dv[12], dg[6];
+            chain_d1(&c, r, D);
+            about_vertex(D, o, 1, Dv);
+            loop_g(Dv, dg);
+            for (int e = 0; e < 6; e++) J[(size_t)e * nc + pos[r]] += dg[e];
+        }
+    }
+    if (lambda && H) {
+        double W[12], Wl[12];
+        loop_weights(lambda, W);
+        weights_about_vertex(W, o, Wl);
+        for (int r = 0; r < c.n; r++)
+            for (int s2 = 0; s2 <= r; s2++) {
+                double D[12], val = 0.0;
+                chain_d2(&c, r, s2, D);
+                for (int e = 0; e < 12; e++) val += Wl[e] * D[e];
+                H[(size_t)pos[r] * nc + pos[s2]] += val;
+                if (r != s2) H[(size_t)pos[s2] * nc + pos[r]] += val;
+            }
+    }
+    chain_free(&c);
+    return SF_OK;
+}
+
 double sf_penalty(const sf_model *m, const sf_kin *k, double lR, double ld,
                   double *grad, double *H, int ldh)
 {

@@ -89,6 +89,16 @@ void sf_fold_centroid(const sf_model *m, const sf_kin *k, int fold,
 void sf_constraints(const sf_model *m, const sf_kin *k, double *g, double *J,
                     const double *lambda, double *H, int ld);
 
+/* The six loop rows of interior vertex v alone, local to its folds (no
+ * array of size ncon x nq): g[6]; the distinct coordinates its rows depend
+ * on in cols (at most 64; *ncols of them); J (6 x ncols, row-major
+ * J[e * ncols + j]) when not NULL; with lambda (6) and H (ncols x ncols,
+ * H[a * ncols + b]) adds sum_e lambda_e d2g_e/dq dq over those columns.
+ * The same values as sf_constraints.  SF_OK, or SF_ENOMEM (also for a
+ * vertex with more than 64 coordinates). */
+int sf_constraints_vertex(const sf_model *m, const sf_kin *k, int v, double g[6], int *cols,
+                          int *ncols, double *J, const double *lambda, double *H);
+
 /* The paper's penalty: sum over interior vertices of
  * (lR/2)(R23^2 + R31^2 + R12^2) + (ld/2)|t|^2 of the loop product.
  * Returns the energy; adds gradient and Hessian when not NULL. */
