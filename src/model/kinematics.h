@@ -10,6 +10,7 @@
 #ifndef SF_KINEMATICS_H
 #define SF_KINEMATICS_H
 
+#include "affine.h"
 #include "pattern.h"
 #include "shape.h"
 #include "sf_error.h"
@@ -104,12 +105,5 @@ int sf_constraints_vertex(const sf_model *m, const sf_kin *k, int v, double g[6]
  * Returns the energy; adds gradient and Hessian when not NULL. */
 double sf_penalty(const sf_model *m, const sf_kin *k, double lR, double ld,
                   double *grad, double *H, int ldh);
-
-/* Small affine helpers (3x4 row-major). */
-void sf_affine_identity(double A[12]);
-void sf_affine_mul(const double A[12], const double B[12], double C[12]);
-void sf_affine_inv(const double A[12], double Ai[12]);
-void sf_affine_apply(const double A[12], const double x[3], double y[3]);
-void sf_rotation(const double axis[3], double angle, double R[9]);
 
 #endif
