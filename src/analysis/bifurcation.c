@@ -42,9 +42,7 @@ static int cmp_dbl(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* A note on a branch, through the caller's hook. */
-static void note(sf_bif *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void note(sf_bif *b, const char *fmt, ...)
+void sf_bif_note(sf_bif *b, const char *fmt, ...)
 {
     char line[1024];
     va_list ap;
@@ -311,7 +309,7 @@ int sf_bif_check(sf_bif *b, const cont_point *pt, double s_offset, int first, sf
     long row_a = b->prev_row;
     double pa = b->prev_p, pb = pt->p, sa = b->prev_sarc, sb = pt->s + s_offset;
     if (fabs(pb - pa) <= 1e-12 * (1.0 + fabs(pa))) {
-        note(b, "stability changes between rows %ld and %ld (branch %d, p = %.10g): the "
+        sf_bif_note(b, "stability changes between rows %ld and %ld (branch %d, p = %.10g): the "
                     "Morse index goes from %d to %d, not located (p does not change there)",
                     row_a, *b->nrows, b->branch, pb, b->prev_lo, morse_b);
         return 0;
@@ -382,7 +380,7 @@ int sf_bif_check(sf_bif *b, const cont_point *pt, double s_offset, int first, sf
         long row = *b->nrows;
         rc = b->h.emit ? b->h.emit(b->h.ctx, &q) : SF_OK;
         free(ty);
-        note(b, "%s at row %ld (branch %d, p = %.10g) located from the Morse index "
+        sf_bif_note(b, "%s at row %ld (branch %d, p = %.10g) located from the Morse index "
                     "(%d eigenvalue%s of H_c cross%s zero there, between rows %ld and %ld, in one "
                     "step of the path; the determinant test cannot see %s)%s; located to within "
                     "%.3g in arclength%s", q.label, row,
@@ -396,7 +394,7 @@ int sf_bif_check(sf_bif *b, const cont_point *pt, double s_offset, int first, sf
         i = k;
     }
     if (nloc < nc)
-        note(b, "stability changes between rows %ld and %ld (branch %d, p from %.10g to "
+        sf_bif_note(b, "stability changes between rows %ld and %ld (branch %d, p from %.10g to "
                     "%.10g): %d of %d eigenvalue crossings could not be located (Newton at fixed "
                     "p failed or left the branch)", row_a, *b->nrows, b->branch, pa, pb,
                     nc - nloc, nc);
@@ -460,7 +458,7 @@ int sf_bif_refine(sf_bif *b, const cont_point *pt, double s_offset, int first, c
     q->p = pz;
     q->s = pt->s + (pz - pbp) * (sarc - b->prev_sarc) / (pbp - pa);
     q->loc_err = w * dsdp;
-    note(b, "BP at row %ld (branch %d): the determinant location stopped %.3g (arclength) "
+    sf_bif_note(b, "BP at row %ld (branch %d): the determinant location stopped %.3g (arclength) "
                 "from it; located again on eigenvalue %d, to within %.3g, at p = %.10g%s",
                 *b->nrows, b->branch, pt->loc_err, j, q->loc_err, pz,
                 q->loc_err > 1e-6 * (1.0 + fabs(pz))
@@ -503,12 +501,12 @@ static int switch_multi(sf_bif *b, cont_solver *cs, const sf_bif_bp *bp, sf_erro
     sf_error e;
     sf_error_clear(&e);
     if (sf_mbp_directions(eq, bp->y, bp->p, bp->mult, 0.02, 0.05 * (1.0 + fabs(bp->p)), &M, &e)) {
-        note(b, "BP%d at row %ld (branch %d, p = %.10g): no switching: %s", bp->mult, bp->point,
+        sf_bif_note(b, "BP%d at row %ld (branch %d, p = %.10g): no switching: %s", bp->mult, bp->point,
              bp->branch, bp->p, e.msg);
         sf_mbp_free(&M);
         return SF_OK;
     }
-    note(b, "BP%d at row %ld (branch %d, p = %.10g): Lyapunov-Schmidt reduction onto its "
+    sf_bif_note(b, "BP%d at row %ld (branch %d, p = %.10g): Lyapunov-Schmidt reduction onto its "
          "two-dimensional kernel (eigenvalues of Jy %.3g and %.3g, next %.3g); %s reduced "
          "bifurcation equations (largest quadratic coefficient %.3g, cubic %.3g): %d isolated "
          "solutions (rays), branches %d..%d", bp->mult, bp->point, bp->branch, bp->p, M.eig[0],
@@ -523,7 +521,7 @@ static int switch_multi(sf_bif *b, cont_solver *cs, const sf_bif_bp *bp, sf_erro
     }
     for (int k = 0; k < M.ndir && !rc; k++) {
         if (b->nbranches >= SF_BIF_MAX_BRANCHES) {
-            note(b, "more than %d branches: not following the rest", SF_BIF_MAX_BRANCHES);
+            sf_bif_note(b, "more than %d branches: not following the rest", SF_BIF_MAX_BRANCHES);
             break;
         }
         if (b->h.begin_branch && (rc = b->h.begin_branch(b->h.ctx, bp, b->nbranches + 1))) break;
@@ -534,7 +532,7 @@ static int switch_multi(sf_bif *b, cont_solver *cs, const sf_bif_bp *bp, sf_erro
         int st = cont_start_tangent(cs, M.y + (size_t)k * n, M.p[k], M.ty + (size_t)k * n, M.tp[k]);
         if (failed(b)) { rc = err->code; break; }
         if (st != CONT_OK) {
-            note(b, "branch %d (from the BP%d at row %ld, ray at %.6f rad in its kernel) did not "
+            sf_bif_note(b, "branch %d (from the BP%d at row %ld, ray at %.6f rad in its kernel) did not "
                  "start: %s", b->branch, bp->mult, bp->point, M.theta[k], cont_errmsg(cs));
             continue;
         }
@@ -553,7 +551,7 @@ static int switch_multi(sf_bif *b, cont_solver *cs, const sf_bif_bp *bp, sf_erro
         for (int j = 0; j < ns && dup < 0; j++)
             if (sig_close(&sig[j], g, nq, n, 1)) dup = j;
         if (dup >= 0) {
-            note(b, "branch %d (from the BP%d at row %ld) duplicates branch %d: not followed",
+            sf_bif_note(b, "branch %d (from the BP%d at row %ld) duplicates branch %d: not followed",
                  b->branch, bp->mult, bp->point, sig[dup].branch);
             continue;
         }
@@ -564,7 +562,7 @@ static int switch_multi(sf_bif *b, cont_solver *cs, const sf_bif_bp *bp, sf_erro
         st = cont_run(cs);
         if (failed(b)) { rc = err->code; break; }
         if (st != CONT_OK && st != CONT_DONE)
-            note(b, "branch %d (from the BP%d at row %ld) stopped after %ld points: %s", b->branch,
+            sf_bif_note(b, "branch %d (from the BP%d at row %ld) stopped after %ld points: %s", b->branch,
                  bp->mult, bp->point, *b->nrows - first, cont_errmsg(cs));
     }
     if (!rc && ns > 0) {
@@ -579,7 +577,7 @@ static int switch_multi(sf_bif *b, cont_solver *cs, const sf_bif_bp *bp, sf_erro
                                                  line[len - 1] == '[' ? "" : " ", sig[j].branch);
             len += snprintf(line + len, sizeof line - (size_t)len, "]");
         }
-        note(b, "BP%d at row %ld: %d distinct branches in %d classes of symmetric images (same "
+        sf_bif_note(b, "BP%d at row %ld: %d distinct branches in %d classes of symmetric images (same "
              "p, energy and sorted |q| at their first points):%s", bp->mult, bp->point, ns, ncls, line);
     }
     free(sig);
@@ -606,13 +604,13 @@ int sf_bif_switch(sf_bif *b, cont_solver *cs, sf_error *err)
             continue;
         }
         if (cont_branch_direction(cs, bp.y, bp.p, bp.ty, bp.tp, t2, &tp2) != CONT_OK) {
-            note(b, "branch point at row %ld (branch %d, p = %.10g): no switching: %s",
+            sf_bif_note(b, "branch point at row %ld (branch %d, p = %.10g): no switching: %s",
                         bp.point, bp.branch, bp.p, cont_errmsg(cs));
             continue;
         }
         for (int sgn = 1; sgn >= -1 && !rc; sgn -= 2) {
             if (b->nbranches >= SF_BIF_MAX_BRANCHES) {
-                note(b, "more than %d branches: not following the rest", SF_BIF_MAX_BRANCHES);
+                sf_bif_note(b, "more than %d branches: not following the rest", SF_BIF_MAX_BRANCHES);
                 free(t2);
                 return SF_OK;
             }
@@ -632,7 +630,7 @@ int sf_bif_switch(sf_bif *b, cont_solver *cs, sf_error *err)
             free(t);
             if (failed(b)) { rc = err->code; break; }
             if (st != CONT_OK && st != CONT_DONE)
-                note(b, "branch %d (from the branch point at row %ld, %s side) stopped "
+                sf_bif_note(b, "branch %d (from the branch point at row %ld, %s side) stopped "
                             "after %ld points: %s", b->branch, bp.point, sgn > 0 ? "+" : "-",
                             *b->nrows - first, cont_errmsg(cs));
         }

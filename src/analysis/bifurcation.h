@@ -90,6 +90,9 @@ typedef struct sf_bif {
 void sf_bif_init(sf_bif *b, sf_equil *eq, sf_stab *st, double tol, int max_depth,
                  const long *nrows, const sf_bif_hooks *h);
 void sf_bif_free(sf_bif *b);
+/* A note on the run (one line, printf format), through the caller's hook
+ * when there is one. */
+void sf_bif_note(sf_bif *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 /* Bounds lo..hi on the Morse index at a point with stability R: the
  * negative eigenvalues, allowing for the one at zero of an LP/BP the engine

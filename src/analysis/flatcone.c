@@ -251,6 +251,25 @@ static void anormalise(const red *R, double *x, double *tmp)
     for (int i = 0; i < R->k; i++) x[i] /= a;
 }
 
+void sf_cone_forms_add(int k, int r, const double *Q, const double *x, const double *nu,
+                       double *F, double *Jm, int n, double *tmp)
+{
+    for (int t = 0; t < r; t++) {
+        const double *Qt = Q + (size_t)t * k * k;
+        matvec(k, Qt, x, tmp);
+        for (int i = 0; i < k; i++) F[i] += nu[t] * tmp[i];
+        F[k + t] = 0.5 * dot(k, x, tmp);
+        if (Jm) {
+            for (int j = 0; j < k; j++)
+                for (int i = 0; i < k; i++) Jm[(size_t)j * n + i] += nu[t] * Qt[(size_t)j * k + i];
+            for (int i = 0; i < k; i++) {
+                Jm[(size_t)(k + t) * n + i] = tmp[i];
+                Jm[(size_t)i * n + k + t] = tmp[i];
+            }
+        }
+    }
+}
+
 /* Reduced residual F(x, nu) (k + r) */
 static void red_eval(const red *R, const double *v, double *F, double *Jm, double *tmp)
 {
@@ -263,20 +282,7 @@ static void red_eval(const red *R, const double *v, double *F, double *Jm, doubl
         for (int j = 0; j < k; j++)
             for (int i = 0; i < k; i++) Jm[(size_t)j * n + i] = R->A[(size_t)j * k + i];
     }
-    for (int t = 0; t < r; t++) {
-        const double *Q = R->Q + (size_t)t * k * k;
-        matvec(k, Q, x, tmp);
-        for (int i = 0; i < k; i++) F[i] += nu[t] * tmp[i];
-        F[k + t] = 0.5 * dot(k, x, tmp);
-        if (Jm) {
-            for (int j = 0; j < k; j++)
-                for (int i = 0; i < k; i++) Jm[(size_t)j * n + i] += nu[t] * Q[(size_t)j * k + i];
-            for (int i = 0; i < k; i++) {
-                Jm[(size_t)(k + t) * n + i] = tmp[i];
-                Jm[(size_t)i * n + k + t] = tmp[i];
-            }
-        }
-    }
+    sf_cone_forms_add(k, r, R->Q, x, nu, F, Jm, n, tmp);
 }
 
 /* Step 4: Newton on the reduced problem from v.  0 when converged. */

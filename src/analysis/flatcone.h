@@ -76,6 +76,13 @@ int sf_cone_reduce(const sf_limit *L, sf_cone_red *R);
 void sf_cone_reduce_free(sf_cone_red *R);
 int sf_cone_to_limit(const sf_limit *L, const sf_cone_red *R, const double *v, double *z);
 
+/* The r second-order rows of a reduced limit problem (forms Q: r blocks
+ * of k x k, column-major) added at (x, nu): F[0..k) += sum_t nu_t Q_t x,
+ * F[k + t] = x^T Q_t x / 2, and, when Jm is not NULL, their blocks of the
+ * n x n column-major Jacobian Jm (n >= k + r).  tmp: k values. */
+void sf_cone_forms_add(int k, int r, const double *Q, const double *x, const double *nu,
+                       double *F, double *Jm, int n, double *tmp);
+
 /* Residual max-norm of the limit problem at z with eps = 0 (flatstart.c). */
 double sf_limit_residual(const sf_limit *L, const double *z);
 

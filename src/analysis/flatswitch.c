@@ -91,20 +91,7 @@ static void sys_eval(const sys *S, const double *v, double *F, double *Jm, doubl
         for (int j = 0; j < k; j++)
             for (int i = 0; i < k; i++)
                 Jm[(size_t)j * n + i] = S->A[(size_t)j * k + i] + (S->hom ? s * S->Ap[(size_t)j * k + i] : 0.0);
-    for (int t = 0; t < r; t++) {
-        const double *Q = S->Q + (size_t)t * k * k;
-        matvec(k, Q, x, tmp);
-        for (int i = 0; i < k; i++) F[i] += nu[t] * tmp[i];
-        F[k + t] = 0.5 * dot(k, x, tmp);
-        if (Jm) {
-            for (int j = 0; j < k; j++)
-                for (int i = 0; i < k; i++) Jm[(size_t)j * n + i] += nu[t] * Q[(size_t)j * k + i];
-            for (int i = 0; i < k; i++) {
-                Jm[(size_t)(k + t) * n + i] = tmp[i];
-                Jm[(size_t)i * n + k + t] = tmp[i];
-            }
-        }
-    }
+    sf_cone_forms_add(k, r, S->Q, x, nu, F, Jm, n, tmp);
 }
 
 /* Least squares min |a z - b| (a: m x n column-major, destroyed; b: max(m, n)
