@@ -7,4 +7,4 @@ tests_test_bifurcation_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_bifurcation_LDADD = $(SF_TEST_LIBS)
 # helpers shared by test_bifurcation, test_stability and test_multibp, and
 # the tests' reader of the TSV files `smoothfold run` writes
-EXTRA_DIST += tests/stab_test.h tests/tsv_test.h
+EXTRA_DIST += tests/stab_test.h tests/tsv_test.h tests/d4_test.h
