@@ -52,6 +52,7 @@
 
 #include "cont.h"
 #include "equilibrium_poses.h"
+#include "flatlimit_sparse.h"
 #include "ldlt.h"
 #include "study.h"
 
@@ -266,28 +267,36 @@ out:
     return rc;
 }
 
-/* One attempt: the step h along (dir u, dir) from the flat state, poses
- * lifted, solved at p0 + dir h by descent(), then cont_start there.  0 on
- * success. */
+/* One attempt: the step h from the flat state, signed by dir (t = dir h),
+ * along the limit solution W (x, mu, z, nu: y = y0 + t x + t^2 z,
+ * lambda = nu + t mu) when W is not NULL, else along u with the declared
+ * imperfection of the mode amplitudes and poses lifted; solved at
+ * p0 + t by descent(), then cont_start there.  0 on success. */
 static int attempt(sf_equil *q, struct cont_solver *cs, kkt_ws *w, const double *y0, double p0,
-                   int dir, const double *u, double h, double tol, double *y, int *iters,
-                   sf_error *err)
+                   int dir, const double *u, const double *W, double h, double tol, double *y,
+                   int *iters, sf_error *err)
 {
     int n = q->n, nq = q->m->nq, nx = q->nq;
+    double t = dir * h;
     memcpy(y, y0, sizeof(double) * (size_t)n);
-    for (int i = 0; i < nq; i++) y[i] += h * dir * u[i];
-    perturb_modes(q->m, y, 1e-2, 0);
-    sf_equil_poses_lift(q, y);
-    for (int i = nx; i < n; i++) y[i] = y0[i] + h * dir * u[i];
+    if (W) {
+        for (int i = 0; i < nx; i++) y[i] += t * W[i] + t * t * W[n + i];
+        for (int i = nx; i < n; i++) y[i] = W[n + i] + t * W[i];
+    } else {
+        for (int i = 0; i < nq; i++) y[i] += t * u[i];
+        perturb_modes(q->m, y, 1e-2, 0);
+        sf_equil_poses_lift(q, y);
+        for (int i = nx; i < n; i++) y[i] = y0[i] + t * u[i];
+    }
     double fres = INFINITY;
     /* fold coordinates move by at most a quarter of the step per iteration */
-    double cap = 0.25 * h * max_angle(q->m, u);
-    if (descent(q, w, y, p0 + dir * h, fmax(tol, 1e-9), cap, 100, iters, &fres, err)) {
+    double cap = 0.25 * h * max_angle(q->m, W ? W : u);
+    if (descent(q, w, y, p0 + t, fmax(tol, 1e-9), cap, 100, iters, &fres, err)) {
         if (!err->code) sf_fail(err, SF_ENUMERIC, "Newton with inertia correction at p = %g: scaled "
-                                "residual %.3g after %d iterations", p0 + dir * h, fres, *iters);
+                                "residual %.3g after %d iterations", p0 + t, fres, *iters);
         return 1;
     }
-    if (cont_start(cs, y, p0 + dir * h, dir) != CONT_OK)
+    if (cont_start(cs, y, p0 + t, dir) != CONT_OK)
         return sf_fail(err, SF_ENUMERIC, "%s", cont_errmsg(cs));
     return 0;
 }
@@ -306,6 +315,7 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
                        "cannot start at the flat state; start from p != 0", path);
     kkt_ws w;
     memset(&w, 0, sizeof w);
+    double *W = NULL;
     double *u = malloc(sizeof(double) * ((size_t)n + 1));
     double *yf = malloc(sizeof(double) * ((size_t)n + 1));
     if (!u || !yf) {
@@ -322,14 +332,28 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
         goto out;
     }
     int declared = 0, nzero = select_signs(q, u, &declared);
-    double h = angle / max_angle(m, u);
+    /* the limit problem of the driving's branch (flatlimit_sparse.h) */
+    W = malloc(sizeof(double) * 2 * (size_t)n);
+    if (!W) {
+        rc = sf_fail(err, SF_ENOMEM, "out of memory");
+        goto out;
+    }
+    sf_flatlimit_info li;
+    sf_error lerr;
+    sf_error_clear(&lerr);
+    int lim = !sf_flat_limit_sparse(q, yf, p0, u, -1e-2, 1, W, &li, &lerr);
+    if (!lim && lerr.code == SF_ENOMEM) {
+        rc = sf_fail(err, SF_ENOMEM, "out of memory");
+        goto out;
+    }
+    double h = angle / max_angle(m, lim ? W : u);
     if (max_dp > 0 && h > max_dp) h = max_dp;
     char why[1100] = "";
     int halvings, its = 0;
     for (halvings = 0; halvings <= 4; halvings++, h *= 0.5) {
         sf_error aerr;
         sf_error_clear(&aerr);
-        if (attempt(q, cs, &w, yf, p0, dir, u, h, tol, y, &its, &aerr)) {
+        if (attempt(q, cs, &w, yf, p0, dir, u, lim ? W : NULL, h, tol, y, &its, &aerr)) {
             snprintf(why, sizeof why, "%s", aerr.msg);
             continue;
         }
@@ -359,16 +383,30 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
                                                   "sign";
         info->iterations = its;
         info->residual = fmax(rr, rt);
+        char lnote[400];
+        if (lim && li.ties)
+            snprintf(lnote, sizeof lnote, "the driving selects no single branch: the limit "
+                     "problem's two starts (mode imperfection -/+1e-2) end on states of equal "
+                     "energy %.9g (a symmetric start); following the one of the declared "
+                     "imperfection -1e-2", li.energy);
+        else if (lim)
+            snprintf(lnote, sizeof lnote, "the driving's branch from the sparse limit problem "
+                     "(%d starts, %d Newton iterations, %d MUMPS factorisations, %d saddles left; "
+                     "limit energy %.9g, other start %.9g)", li.starts, li.iterations,
+                     li.factorisations, li.pushes, li.energy, li.energy_alt);
+        else
+            snprintf(lnote, sizeof lnote, "the sparse limit problem failed (%.200s): the "
+                     "driving's first-order response with a declared imperfection (every mode "
+                     "amplitude -1e-2 times the largest fold angle)", lerr.msg);
         snprintf(info->note, sizeof info->note,
-                 "flat start (sparse): the driving's response projected on the first-order "
-                 "kernel (MUMPS LDL^T, %d null pivots), a step of %.3g in p, %d Newton iterations "
-                 "with inertia correction from a declared imperfection (every mode amplitude "
-                 "-1e-2 times the largest fold angle), first point at p = %.6g, largest fold angle %.4g rad, "
-                 "fold-row residual %.2g, %d step halvings%s", nnull, h, its, pt->p,
-                 max_angle(m, pt->y), fmax(rr, rt), halvings, signs);
+                 "flat start (sparse): %.270s; a step of %.3g in p, %d Newton iterations, first "
+                 "point at p = %.6g, largest fold angle %.4g rad, fold-row residual %.2g, %d step "
+                 "halvings%s", lnote, h, its, pt->p, max_angle(m, pt->y), fmax(rr, rt), halvings,
+                 signs);
     }
 out:
     ws_free(&w);
+    free(W);
     free(u);
     free(yf);
     return rc;

@@ -1,0 +1,532 @@
+/* flatlimit_sparse.c - the limit problem of the driving's branch at the
+ * flat state in face poses, sparse (flatlimit_sparse.h).
+ *
+ * Unknowns w = (x, mu, z, nu), 2 n values (n = q->n: the coordinates and
+ * the constraint rows of the pose problem, twice).  The equations of the
+ * header are the stationarity of
+ *   L = x^T H0 x / 2 + b . x + mu . J x + nu . (J z + (x^T G x) / 2)
+ *       + delta |z|^2 / 2 - eta |nu|^2 / 2,
+ * whose Hessian is the symmetric KKT matrix
+ *   [ H0 + sum nu_r G_r   J^T    0       [Gx]^T ]   x
+ *   [ J                  -reg    0       0      ]   mu
+ *   [ 0                   0      delta   J^T    ]   z
+ *   [ [Gx]                0      J      -eta    ]   nu
+ * ([Gx] the rows x^T G_r).  Every block is local: H0 + sum nu_r G_r, J
+ * and J^T are the pose Jacobian at (flat state, multipliers nu)
+ * (sf_peq_jacobian_csc, analytic), the rows of [Gx] come from the fold
+ * rows' own Hessians (sf_poses_fold_rows with a unit multiplier), so the
+ * matrix has about twice the nonzeros of the pose Jacobian and is
+ * factorised by MUMPS (ldlt.h), which also gives its inertia.
+ *
+ * eta is a penalty on the second-order rows (nu = their residual / eta):
+ * for eta large the solution is the first-order response u (the
+ * driving's response on the first-order kernel), and as eta falls
+ * (10^2 .. 10^-10 in the scaled units, ten stages) the loops close to
+ * second order and x moves onto the tangent cone: the sparse counterpart
+ * of the penalty descent of flatcone.c, without the kernel basis.  Newton
+ * in every stage with an inertia correction: while the KKT matrix has
+ * more negative pivots than constraint rows (2 per row: mu and nu) the
+ * penalised energy is not convex on the constraints' tangent space and a
+ * shift on the x block makes the step descend; a converged saddle (a
+ * symmetric state losing stability as eta falls) is pushed off by a
+ * pseudo-random perturbation (fixed seeds).  delta (tiny) selects the
+ * minimum-norm z. */
+#include "flatlimit_sparse.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "equilibrium_poses.h"
+#include "ldlt.h"
+#include "poses.h"
+
+#define DELTA_S 1e-10    /* delta, scaled */
+#define REG_S 1e-12      /* eta of the last stage, scaled */
+#define ETA0 1e-8
+#define NSTAGES 3
+#define MAXIT 80
+#define MAXPUSH 6
+#define CAP 1.0          /* fold coordinates move by at most CAP |x| per step */
+
+typedef struct lim_ws {
+    sf_equil *q;
+    sf_poses P;
+    int n, nx, nf, ncon;
+    long nl, ngx;
+    int *r, *c;
+    long *src;        /* >= 0 Jacobian entry; -1 diag of x/mu; -2 diag of z/nu; -3 [Gx] */
+    double *a, *d, *gx, *qr, *ybuf, *b, *R;
+    double *work, *dg, *Hl, *lam;
+    int *col;
+    double *hc;       /* the rows' Hessians at the flat state (gx_rows) */
+    int hc_filled;
+    double last_shift;   /* the last shift that gave the right inertia */
+    sf_ldlt *f;
+    const double *y0;
+    double p0;
+} lim_ws;
+
+static void lw_free(lim_ws *w)
+{
+    sf_ldlt_free(w->f);
+    sf_poses_free(&w->P);
+    free(w->r);
+    free(w->c);
+    free(w->src);
+    free(w->a);
+    free(w->d);
+    free(w->gx);
+    free(w->qr);
+    free(w->ybuf);
+    free(w->b);
+    free(w->R);
+    free(w->work);
+    free(w->dg);
+    free(w->Hl);
+    free(w->col);
+    free(w->hc);
+}
+
+/* The entries of [Gx] (the rows x^T G_r of the constraint rows r, local
+ * columns) from index k of the triplets (record: their positions), and
+ * x^T G_r x / 2 into qr.  x NULL: pattern only (returns the end index).
+ * The rows' Hessians at the flat state are computed at the first call
+ * with x (sf_poses_fold_rows, sf_poses_mpoint with a unit multiplier)
+ * and kept (w->hc: nv^2 values per row). */
+static long gx_rows(lim_ws *w, const double *x, long k, int record)
+{
+    sf_equil *q = w->q;
+    const sf_model *m = q->m;
+    int nx = w->nx;
+    long ho = 0;
+    int fill = x && !w->hc_filled;
+    if (fill) {
+        long tot = 0;
+        for (int i = 0; i < m->nfolds; i++) {
+            int nv = sf_poses_fold_vars(&w->P, i, w->col);
+            tot += 6L * nv * nv;
+        }
+        for (int s = 0; s < q->nsup; s++) {
+            const sf_mpoint *pt = &q->rowpt[s];
+            int nv = sf_poses_point_vars(&w->P, pt->face, pt->fold, w->col);
+            tot += (long)nv * nv;
+        }
+        w->hc = malloc(sizeof(double) * (size_t)(tot + 1));
+        if (!w->hc) return -1;
+    }
+    for (int i = 0; i < m->nfolds; i++) {
+        int nv = sf_poses_fold_vars(&w->P, i, w->col);
+        double g[6];
+        for (int cc = 0; cc < 6; cc++) {
+            int row = 6 * i + cc;
+            double lam[6] = {0, 0, 0, 0, 0, 0};
+            lam[cc] = 1.0;
+            double qv = 0.0;
+            const double *H = w->hc ? w->hc + ho : NULL;
+            if (fill) sf_poses_fold_rows(&w->P, w->y0, i, g, w->dg, lam, w->hc + ho, w->work);
+            ho += (long)nv * nv;
+            for (int a = 0; a < nv; a++) {
+                if (w->col[a] < 0) continue;
+                if (record) {
+                    w->r[k] = w->n + nx + row;
+                    w->c[k] = w->col[a];
+                    w->src[k] = -3;
+                }
+                if (x) {
+                    double v = 0.0;
+                    for (int bb = 0; bb < nv; bb++)
+                        if (w->col[bb] >= 0) v += H[a * nv + bb] * x[w->col[bb]];
+                    w->gx[k - w->nl] = v;
+                    qv += 0.5 * v * x[w->col[a]];
+                }
+                k++;
+            }
+            if (x) w->qr[row] = qv;
+        }
+    }
+    for (int s = 0; s < q->nsup; s++) {
+        const sf_mpoint *pt = &q->rowpt[s];
+        int row = q->nloop + s, cc = q->rowc[s];
+        int nv = sf_poses_point_vars(&w->P, pt->face, pt->fold, w->col);
+        double xo[3], wt[3] = {0, 0, 0};
+        wt[cc] = 1.0;
+        double qv = 0.0;
+        const double *H = w->hc ? w->hc + ho : NULL;
+        if (fill) sf_poses_mpoint(&w->P, w->y0, pt, xo, w->dg, wt, w->hc + ho, w->work);
+        ho += (long)nv * nv;
+        for (int a = 0; a < nv; a++) {
+            if (w->col[a] < 0) continue;
+            if (record) {
+                w->r[k] = w->n + nx + row;
+                w->c[k] = w->col[a];
+                w->src[k] = -3;
+            }
+            if (x) {
+                double v = 0.0;
+                for (int bb = 0; bb < nv; bb++)
+                    if (w->col[bb] >= 0) v += H[a * nv + bb] * x[w->col[bb]];
+                w->gx[k - w->nl] = v;
+                qv += 0.5 * v * x[w->col[a]];
+            }
+            k++;
+        }
+        if (x) w->qr[row] = qv;
+    }
+    if (fill) w->hc_filled = 1;
+    return k;
+}
+
+static int lw_init(lim_ws *w, sf_equil *q, const double *y0, double p0, sf_error *err)
+{
+    memset(w, 0, sizeof *w);
+    w->q = q;
+    w->y0 = y0;
+    w->p0 = p0;
+    w->n = q->n;
+    w->nx = q->nq;
+    w->nf = q->m->nq;
+    w->ncon = q->ncon;
+    int n = w->n;
+    if (sf_poses_init(&w->P, q->m, err)) return err->code;
+    size_t nv = (size_t)w->P.maxnv;
+    w->work = malloc(sizeof(double) * sf_poses_work_size(&w->P));
+    w->dg = malloc(sizeof(double) * 6 * nv);
+    w->Hl = malloc(sizeof(double) * nv * nv);
+    w->col = malloc(sizeof(int) * nv);
+    w->d = malloc(sizeof(double) * (size_t)n);
+    w->qr = calloc((size_t)w->ncon + 1, sizeof(double));
+    w->ybuf = malloc(sizeof(double) * (size_t)n);
+    w->b = malloc(sizeof(double) * (size_t)n);
+    w->R = malloc(sizeof(double) * 2 * (size_t)n);
+
+    if (!w->work || !w->dg || !w->Hl || !w->col || !w->d || !w->qr || !w->ybuf || !w->b || !w->R)
+        return sf_fail(err, SF_ENOMEM, "out of memory");
+    for (int i = 0; i < n; i++) w->d[i] = sqrt(q->fscale[i] / q->yscale[i]);
+    if (sf_ldlt_create(&w->f, 0.0, err)) return err->code;
+    return SF_OK;
+}
+
+/* The pattern (first call) and the values of the scaled KKT matrix at
+ * w (x, mu, z, nu raw), with the shift on the x block and eta; the raw
+ * residual into w->R.  Factorises; *neg the negative pivots. */
+static int lw_factor(lim_ws *L, const double *w, double shift, double eta, int *neg, sf_error *err)
+{
+    sf_equil *q = L->q;
+    int n = L->n, nx = L->nx;
+    const long *cp;
+    const int *ri;
+    const double *v;
+    memcpy(L->ybuf, L->y0, sizeof(double) * (size_t)nx);
+    memcpy(L->ybuf + nx, w + n + nx, sizeof(double) * (size_t)L->ncon);   /* multipliers nu */
+    if (sf_peq_jacobian_csc(q, L->ybuf, L->p0, &cp, &ri, &v, L->b))
+        return sf_fail(err, SF_ENUMERIC, "%s: a Jacobian at the flat state is not finite",
+                       q->m->study->path);
+    if (!L->r) {   /* the pattern, once */
+        long nl = 2L * n;
+        for (int j = 0; j < n; j++)
+            for (long k = cp[j]; k < cp[j + 1]; k++) {
+                if (ri[k] >= j) nl++;
+                if (j < nx && ri[k] >= nx) nl++;
+            }
+        L->nl = nl;
+        L->ngx = gx_rows(L, NULL, 0, 0);
+        long tot = nl + L->ngx;
+        L->r = malloc(sizeof(int) * (size_t)tot);
+        L->c = malloc(sizeof(int) * (size_t)tot);
+        L->src = malloc(sizeof(long) * (size_t)tot);
+        L->a = malloc(sizeof(double) * (size_t)tot);
+        L->gx = malloc(sizeof(double) * (size_t)L->ngx + 1);
+        if (!L->r || !L->c || !L->src || !L->a || !L->gx) return sf_fail(err, SF_ENOMEM, "out of memory");
+        long k = 0;
+        for (int j = 0; j < n; j++) {
+            L->r[k] = L->c[k] = j;
+            L->src[k++] = -1;
+            L->r[k] = L->c[k] = n + j;
+            L->src[k++] = -2;
+            for (long e = cp[j]; e < cp[j + 1]; e++) {
+                if (ri[e] >= j) {
+                    L->r[k] = ri[e];
+                    L->c[k] = j;
+                    L->src[k++] = e;
+                }
+                if (j < nx && ri[e] >= nx) {   /* J in the (nu, z) block */
+                    L->r[k] = n + ri[e];
+                    L->c[k] = n + j;
+                    L->src[k++] = e;
+                }
+            }
+        }
+        gx_rows(L, NULL, k, 1);
+    }
+    const double *x = w;
+    if (gx_rows(L, x, L->nl, 0) < 0) return sf_fail(err, SF_ENOMEM, "out of memory");
+    double *d = L->d;
+    long tot = L->nl + L->ngx;
+    for (long k = 0; k < tot; k++) {
+        int i = L->r[k] % n, j = L->c[k] % n;
+        double s = d[i] * d[j], val;
+        if (L->src[k] >= 0) val = s * v[L->src[k]];
+        else if (L->src[k] == -1) val = i < nx ? shift : 0.0;
+        else if (L->src[k] == -2) val = i < nx ? DELTA_S : -fmax(eta, REG_S);
+        else val = s * L->gx[k - L->nl];
+        L->a[k] = val;
+    }
+    /* residual (raw) */
+    double *R = L->R;
+    const double *mu = w + nx, *z = w + n, *nu = w + n + nx;
+    for (int i = 0; i < nx; i++) {
+        R[i] = L->b[i];
+        R[n + i] = DELTA_S / (d[i] * d[i]) * z[i];
+    }
+    for (int r = 0; r < L->ncon; r++) {
+        R[nx + r] = 0.0;
+        R[n + nx + r] = L->qr[r] - fmax(eta, REG_S) / (d[nx + r] * d[nx + r]) * nu[r];
+    }
+    for (int j = 0; j < n; j++)
+        for (long e = cp[j]; e < cp[j + 1]; e++) {
+            int i = ri[e];
+            if (i < nx) {
+                R[i] += v[e] * (j < nx ? x[j] : mu[j - nx]);   /* HL x + J^T mu */
+                if (j >= nx) R[n + i] += v[e] * nu[j - nx];      /* J^T nu */
+            } else if (j < nx) {
+                R[i] += v[e] * x[j];                              /* J x */
+                R[n + i] += v[e] * z[j];                          /* J z */
+            }
+        }
+    if (sf_ldlt_factor(L->f, 2 * n, tot, L->r, L->c, L->a, err)) return err->code;
+    sf_ldlt_info li;
+    sf_ldlt_get_info(L->f, &li);
+    *neg = li.neg;
+    return SF_OK;
+}
+
+static double lw_resnorm(const lim_ws *L)
+{
+    double mx = 0.0;
+    for (int i = 0; i < 2 * L->n; i++) mx = fmax(mx, fabs(L->R[i] * L->q->fscale[i % L->n]));
+    return mx;
+}
+
+static double fold_max(const lim_ws *L, const double *x)
+{
+    double mx = 0.0;
+    const sf_model *m = L->q->m;
+    for (int i = 0; i < m->nfolds; i++) mx = fmax(mx, fabs(x[m->qoff[i]]));
+    return mx;
+}
+
+/* Newton with inertia correction at a fixed eta; 0 when converged to a
+ * state of the right inertia. */
+static int lw_stage(lim_ws *L, double *w, double eta, double tol, int *its, int *pushes,
+                    double *res, sf_error *err)
+{
+    int n = L->n, N = 2 * n, target = 2 * L->ncon;
+    for (int it = 0; it < MAXIT; it++) {
+        double shift = 0.0;
+        int neg = 0;
+        for (int k = 0; k < 40; k++) {
+            if (lw_factor(L, w, shift, eta, &neg, err)) return -1;
+            if (k == 0) {
+                *res = lw_resnorm(L);
+                if (*res <= tol) {
+                    if (neg <= target) return 0;
+                    if (++*pushes > MAXPUSH) return 1;
+                    /* a saddle: pushed off (pseudo-random, fixed seed) */
+                    unsigned long seed = 2654435761u * (unsigned long)*pushes + 97u;
+                    double xm = fold_max(L, w);
+                    for (int i = 0; i < L->nf; i++) {
+                        seed = seed * 6364136223846793005ul + 1442695040888963407ul;
+                        w[i] += 1e-2 * xm * ((double)(seed >> 11) / 4503599627370496.0 - 1.0);
+                    }
+                    k = -1;
+                    shift = 0.0;
+                    continue;
+                }
+            }
+            if (neg <= target) {
+                L->last_shift = shift;
+                break;
+            }
+            /* the shift of the previous iteration is the first guess */
+            shift = shift > 0 ? 4.0 * shift : fmax(1e-6, 0.25 * L->last_shift);
+        }
+        (*its)++;
+        double *s = malloc(sizeof(double) * (size_t)N);
+        if (!s) return sf_fail(err, SF_ENOMEM, "out of memory"), -1;
+        for (int i = 0; i < N; i++) s[i] = -L->R[i] * L->d[i % n];
+        if (sf_ldlt_solve(L->f, s, err)) {
+            free(s);
+            return -1;
+        }
+        double sm = 0.0, xm = fold_max(L, w);
+        for (int i = 0; i < N; i++) {
+            s[i] *= L->d[i % n];
+            if (!isfinite(s[i])) {
+                free(s);
+                return sf_fail(err, SF_ENUMERIC, "a Newton step of the flat limit problem is not "
+                               "finite"), -1;
+            }
+        }
+        for (int i = 0; i < L->nf; i++) sm = fmax(sm, fabs(s[i]));
+        double sc = sm > CAP * xm ? CAP * xm / sm : 1.0;
+        for (int i = 0; i < N; i++) w[i] += sc * s[i];
+        free(s);
+    }
+    return 1;
+}
+
+/* x^T H0 x / 2 + b . x with H0 at the flat state, multipliers 0. */
+static int lw_energy(lim_ws *L, const double *x, double *E, sf_error *err)
+{
+    int nx = L->nx;
+    const long *cp;
+    const int *ri;
+    const double *v;
+    memcpy(L->ybuf, L->y0, sizeof(double) * (size_t)nx);
+    memset(L->ybuf + nx, 0, sizeof(double) * (size_t)L->ncon);
+    if (sf_peq_jacobian_csc(L->q, L->ybuf, L->p0, &cp, &ri, &v, L->b))
+        return sf_fail(err, SF_ENUMERIC, "a Jacobian at the flat state is not finite");
+    double e = 0.0;
+    for (int j = 0; j < nx; j++) {
+        e += L->b[j] * x[j];
+        for (long k = cp[j]; k < cp[j + 1]; k++)
+            if (ri[k] < nx) e += 0.5 * x[ri[k]] * v[k] * x[j];
+    }
+    *E = e;
+    return SF_OK;
+}
+
+/* The homotopy from the start in w (x, mu; z = nu = 0). */
+static int lw_solve(lim_ws *L, double *w, double tol, sf_flatlimit_info *info, sf_error *err)
+{
+    double eta = ETA0, res = INFINITY;
+    for (int st = 0; st < NSTAGES; st++, eta *= 0.1) {
+        int last = st == NSTAGES - 1;
+        int rc = lw_stage(L, w, last ? REG_S : eta, last ? tol : fmax(tol, 1e-7), &info->iterations,
+                          &info->pushes, &res, err);
+        info->stages = st + 1;
+        info->residual = res;
+        if (rc < 0) return err->code;
+        if (rc > 0)
+            return sf_fail(err, SF_ENUMERIC, "the sparse limit problem of the flat state does not "
+                           "converge at penalty stage %d of %d (scaled residual %.3g after %d "
+                           "Newton iterations, %d saddles left)", st + 1, NSTAGES, res,
+                           info->iterations, info->pushes);
+    }
+    info->stable = 1;
+    return lw_energy(L, w, &info->energy, err);
+}
+
+static void imperfect(const sf_model *m, double *x, double rel)
+{
+    double mx = 0.0;
+    for (int i = 0; i < m->nfolds; i++) mx = fmax(mx, fabs(x[m->qoff[i]]));
+    for (int i = 0; i < m->nfolds; i++)
+        for (int k = 1; k < m->qn[i]; k++) x[m->qoff[i] + k] += rel * mx;
+}
+
+/* One candidate: from the start x (mu; z = nu = 0) with the mode
+ * imperfection rel.  0 converged, > 0 not, < 0 error in err. */
+static int candidate(lim_ws *L, const double *start, double rel, double *w,
+                     sf_flatlimit_info *info, sf_error *err)
+{
+    int n = L->n;
+    memset(w, 0, sizeof(double) * 2 * (size_t)n);
+    memcpy(w, start, sizeof(double) * (size_t)n);
+    imperfect(L->q->m, w, rel);
+    memset(info, 0, sizeof *info);
+    int rc = lw_solve(L, w, 1e-10, info, err);
+    if (rc && err->code != SF_ENUMERIC) return -1;
+    return rc ? 1 : 0;
+}
+
+/* Sum of the mode amplitudes of x (the sign a declared imperfection
+ * selects between mirror states). */
+static double mode_sum(const sf_model *m, const double *x)
+{
+    double t = 0.0;
+    for (int i = 0; i < m->nfolds; i++)
+        for (int k = 1; k < m->qn[i]; k++) t += x[m->qoff[i] + k];
+    return t;
+}
+
+int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double *u, double imperf,
+                         int mirror, double *w, sf_flatlimit_info *info, sf_error *err)
+{
+    lim_ws L;
+    int n = q->n, rc = SF_OK;
+    const sf_model *m = q->m;
+    memset(info, 0, sizeof *info);
+    info->energy_alt = NAN;
+    double *st = NULL, *wc = NULL;
+    if ((rc = lw_init(&L, q, y0, p0, err))) goto out;
+    st = malloc(sizeof(double) * (size_t)n);
+    wc = malloc(sizeof(double) * 2 * (size_t)n);
+    if (!st || !wc) {
+        rc = sf_fail(err, SF_ENOMEM, "out of memory");
+        goto out;
+    }
+    sf_flatlimit_info ci;
+    sf_error ce;
+    sf_error_clear(&ce);
+    int r = candidate(&L, u, imperf, w, info, &ce);
+    info->starts = 1;
+    if (r) {
+        *err = ce;
+        rc = ce.code ? ce.code : SF_ENUMERIC;
+        goto out;
+    }
+    info->converged = 1;
+    info->stable = 1;
+    if (mirror) {
+        /* the mirror in the modes: the same fold angles, mode amplitudes
+         * negated, poses and multipliers from Newton */
+        memset(st, 0, sizeof(double) * (size_t)n);
+        for (int i = 0; i < m->nfolds; i++) {
+            st[m->qoff[i]] = w[m->qoff[i]];
+            for (int k = 1; k < m->qn[i]; k++) st[m->qoff[i] + k] = -w[m->qoff[i] + k];
+        }
+        sf_error_clear(&ce);
+        r = candidate(&L, st, 0.0, wc, &ci, &ce);
+        info->starts = 2;
+        info->iterations += ci.iterations;
+        info->pushes += ci.pushes;
+        if (r < 0) {
+            *err = ce;
+            rc = ce.code;
+            goto out;
+        }
+        if (!r) {
+            info->converged = 2;
+            double dx = 0.0, xm = fold_max(&L, w);
+            for (int i = 0; i < m->nq; i++) dx = fmax(dx, fabs(wc[i] - w[i]));
+            info->xdiff = xm > 0 ? dx / xm : 0.0;
+            /* a distinct state off the flat sheet */
+            if (info->xdiff > 1e-6 && fold_max(&L, wc) > 1e-3 * xm) {
+                info->energy_alt = ci.energy;
+                info->ties = fabs(ci.energy - info->energy) <= 1e-7 * fabs(info->energy);
+                /* the lower energy; of two equal ones, the one the declared
+                 * imperfection's sign selects */
+                int take = info->ties ? mode_sum(m, wc) * imperf > mode_sum(m, w) * imperf
+                                      : ci.energy < info->energy;
+                if (take) {
+                    info->energy_alt = info->energy;
+                    info->energy = ci.energy;
+                    info->chosen = 1;
+                    memcpy(w, wc, sizeof(double) * 2 * (size_t)n);
+                }
+            }
+        }
+    }
+out:
+    if (L.f) {
+        sf_ldlt_info fi;
+        sf_ldlt_get_info(L.f, &fi);
+        info->factorisations = fi.factorisations;
+    }
+    lw_free(&L);
+    free(st);
+    free(wc);
+    return rc;
+}

@@ -1,0 +1,47 @@
+/* flatlimit_sparse.h - the limit problem of the branch that the driving
+ * selects at the flat state, in face poses, with sparse matrices only (see
+ * the comment at the top of flatlimit_sparse.c and docs/flatstart.md).
+ *
+ * A branch leaving the flat state y0 as y = y0 + h x + h^2 z + O(h^3),
+ * lambda = nu + h mu + O(h^2) (h = p - p0) solves, order by order,
+ *   H0 x + b + J^T mu + sum_r nu_r G_r x = 0,   J^T nu = 0,
+ *   J x = 0,                                   J z + (x^T G_r x / 2)_r = 0,
+ * (H0 the bending Hessian, b = dF/dp, J and G_r the gradients and
+ * Hessians of the constraint rows, all at the flat state): the
+ * stationarity of x^T H0 x / 2 + b . x on the tangent cone of the
+ * constraints.  The driving's branch is a local minimum of it, reached
+ * by a penalty homotopy on the second-order rows from the first-order
+ * response. */
+#ifndef SF_FLATLIMIT_SPARSE_H
+#define SF_FLATLIMIT_SPARSE_H
+
+#include "equilibrium.h"
+
+typedef struct sf_flatlimit_info {
+    int iterations;     /* Newton iterations, all stages */
+    int stages;         /* penalty stages */
+    int pushes;         /* saddles left by a perturbation */
+    int stable;         /* 1: the limit problem's inertia says minimum */
+    int ties;           /* 1: the mirror start gave another state of equal energy */
+    double energy;      /* x^T H0 x / 2 + b . x (J per unit p^2) */
+    double energy_alt;  /* the same for the other start (ties test), NAN if none */
+    double xdiff;       /* max |x - x_alt| over the fold angles, relative */
+    double residual;    /* final scaled residual */
+    int factorisations;  /* MUMPS LDL^T factorisations, all starts */
+    int starts, converged;  /* candidate starts tried, converged */
+    int chosen;         /* 0: from the first-order response, 1: its mirror in the modes */
+} sf_flatlimit_info;
+
+/* Solve the limit problem at the flat state y0 (q->n values, poses
+ * lifted), p0, from the first-order response u (sf_flat_direction).
+ * w receives 2 q->n values: (x, mu) then (z, nu) in the layout of y
+ * (coordinates, then constraint rows).  imperf: the declared imperfection
+ * of the mode amplitudes (every shape-mode amplitude of the start moved
+ * by imperf times the largest fold angle of u; 0 for none); when mirror
+ * is set the start with -imperf is also solved and compared (info->ties,
+ * energy_alt).  SF_OK, SF_ENUMERIC (no convergence, with the numbers),
+ * SF_ENOMEM. */
+int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double *u, double imperf,
+                         int mirror, double *w, sf_flatlimit_info *info, sf_error *err);
+
+#endif
