@@ -479,6 +479,7 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
     }
     info->converged = 1;
     info->stable = 1;
+    info->energy_alt = NAN;   /* candidate() cleared info */
     if (mirror) {
         /* the mirror in the modes: the same fold angles, mode amplitudes
          * negated, poses and multipliers from Newton */
