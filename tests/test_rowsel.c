@@ -145,7 +145,7 @@ static void check_generic(int m, int K)
     sf_poses P;
     assert_int_equal(sf_poses_init(&P, &sa.model, &err), SF_OK);
     double *y = calloc((size_t)qa.n + 1, sizeof(double));
-    sf_rowsel_generic_state(&P, qa.lref, 0.1, 777u, y);
+    assert_int_equal(sf_rowsel_generic_state(&P, qa.lref, 0.1, 777u, y), SF_OK);
     /* multipliers: arbitrary, the same on the kept rows of both */
     double *yk = calloc((size_t)qk.n + 1, sizeof(double));
     memcpy(yk, y, sizeof(double) * (size_t)nx);

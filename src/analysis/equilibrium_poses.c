@@ -245,8 +245,9 @@ static int select_rows(sf_equil *q, sf_error *err)
         for (int r = 0; r < nr; r++) z->kidx[r] = 1;
         z->grank = -1;
         if (strcmp(mode, "independent") == 0) {
-            sf_rowsel_generic_state(&z->P, q->lref, ROWSEL_AMP, ROWSEL_SEED, x);
-            rc = sf_rowsel_select(&z->P, x, q->lref, ROWSEL_RTOL, z->kidx, &nkeep, &z->grank,
+            rc = sf_rowsel_generic_state(&z->P, q->lref, ROWSEL_AMP, ROWSEL_SEED, x)
+                     ? sf_fail(err, SF_ENOMEM, "out of memory")
+                     : sf_rowsel_select(&z->P, x, q->lref, ROWSEL_RTOL, z->kidx, &nkeep, &z->grank,
                                   err);
         }
     }

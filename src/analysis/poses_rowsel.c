@@ -4,29 +4,29 @@
 #include "poses_rowsel.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <SuiteSparseQR_C.h>
 
-void sf_rowsel_generic_state(const sf_poses *P, double lref, double amp, unsigned seed, double *x)
+/* Uniform in [-0.5, 0.5) from a 64-bit LCG state (local: no global state). */
+static double next_u(uint64_t *s)
 {
-    /* a local LCG: no global state, the same state for the same seed */
-    unsigned long s = seed ? seed : 1u;
-    double *q = calloc((size_t)P->nq + 1, sizeof(double));
-#define NEXT_U() (s = s * 6364136223846793005ul + 1442695040888963407ul, \
-                  (double)((s >> 11) & ((1ul << 52) - 1)) / (double)(1ul << 52) - 0.5)
-    for (int j = 0; j < P->nq; j++) {
-        double u = NEXT_U();
-        if (q) q[j] = u;
-    }
-    if (!q || sf_poses_from_folds(P, q, x)) memset(x, 0, sizeof(double) * (size_t)P->nx);
+    *s = *s * 6364136223846793005u + 1442695040888963407u;
+    return (double)((*s >> 11) & ((UINT64_C(1) << 52) - 1)) / 4503599627370496.0 - 0.5;
+}
+
+int sf_rowsel_generic_state(const sf_poses *P, double lref, double amp, unsigned seed, double *x)
+{
+    uint64_t s = seed ? seed : 1u;
+    for (int j = 0; j < P->nq; j++) x[j] = next_u(&s);
+    if (sf_poses_from_folds(P, x, x)) return SF_ENOMEM;
     for (int j = P->nq; j < P->nx; j++) {
         int pos = (j - P->nq) % 6 >= 3;
-        x[j] += amp * NEXT_U() * (pos ? lref : 1.0);
+        x[j] += amp * next_u(&s) * (pos ? lref : 1.0);
     }
-#undef NEXT_U
-    free(q);
+    return SF_OK;
 }
 
 /* A = C^T (nx x 6 N) at x, column r = fold row r, scaled as Newton sees

@@ -14,9 +14,9 @@
 
 /* A generic state x (P->nx values): fold coordinates uniform in
  * [-0.5, 0.5), the poses of their tree maps, then every pose entry moved
- * by up to 0.1 (rotation) or 0.1 lref (position); reproducible from
- * seed. */
-void sf_rowsel_generic_state(const sf_poses *P, double lref, double amp, unsigned seed, double *x);
+ * by up to amp / 2 (rotation) or amp lref / 2 (position); reproducible
+ * from seed.  SF_OK or SF_ENOMEM. */
+int sf_rowsel_generic_state(const sf_poses *P, double lref, double amp, unsigned seed, double *x);
 
 /* The rank of the fold rows at x into *rank (rows scaled as Newton sees
  * them: translations by 1 / lref, positions by lref; a column of the QR
