@@ -495,6 +495,11 @@ void sf_peq_report(sf_equil *q, const double *y, double p, double *Pi, double *r
     *res_tra = rt;
 }
 
+int sf_peq_fold_row(const sf_equil *q, int fold_row)
+{
+    return q->pz->kidx[fold_row];
+}
+
 int sf_peq_rows_dropped(const sf_equil *q) { return q->pz ? q->pz->ndrop : 0; }
 
 int sf_peq_rows_rank(const sf_equil *q) { return q->pz ? q->pz->grank : -1; }

@@ -63,6 +63,9 @@ int sf_peq_rows_dropped(const sf_equil *q);
  * (poses_rowsel.h). */
 int sf_peq_rows_rank(const sf_equil *q);
 double sf_peq_dropped_residual(sf_equil *q, const double *y);
+/* Index among the constraint rows (multiplier nx + index) of fold row
+ * 6 i + c, -1 when that row is dropped (flatlimit_sparse.c). */
+int sf_peq_fold_row(const sf_equil *q, int fold_row);
 
 /* Used by equilibrium.c when q->pz is set. */
 int sf_peq_residual(sf_equil *q, const double *y, double p, double *F);

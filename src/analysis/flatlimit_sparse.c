@@ -119,13 +119,14 @@ static long gx_rows(lim_ws *w, const double *x, long k, int record)
         int nv = sf_poses_fold_vars(&w->P, i, w->col);
         double g[6];
         for (int cc = 0; cc < 6; cc++) {
-            int row = 6 * i + cc;
+            int row = sf_peq_fold_row(q, 6 * i + cc);   /* -1: dropped */
             double lam[6] = {0, 0, 0, 0, 0, 0};
             lam[cc] = 1.0;
             double qv = 0.0;
             const double *H = w->hc ? w->hc + ho : NULL;
             if (fill) sf_poses_fold_rows(&w->P, w->y0, i, g, w->dg, lam, w->hc + ho, w->work);
             ho += (long)nv * nv;
+            if (row < 0) continue;
             for (int a = 0; a < nv; a++) {
                 if (w->col[a] < 0) continue;
                 if (record) {

@@ -4,6 +4,7 @@
  * (docs/output-format.md).  Every file is written to a temporary name and
  * renamed when complete. */
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -623,6 +624,12 @@ static int run_equilibrium(run_ctx *r)
      * rounding only (it grows with the number of loops: 1.4e-14 on a 3x3
      * Miura sheet) */
     double flat_tol = 1e-2 * (s->tolerance > 0 ? s->tolerance : 1e-10);
+    {   /* face poses: the lift's rounding grows with the sheet (scaled
+         * positions ~ size / band width; 1.7e-12 on an 8x8 Miura sheet) */
+        double ym = 1.0;
+        for (int i = 0; i < eq->n; i++) ym = fmax(ym, fabs(y0[i] * eq->yscale[i]));
+        flat_tol = fmax(flat_tol, 1e3 * DBL_EPSILON * ym);
+    }
     if (F0norm > flat_tol) {
         sf_equil_set_param(eq, start);
         for (int i = 0; i < sc->model.nfolds; i++)
