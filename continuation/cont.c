@@ -216,8 +216,8 @@ int cont_create(const cont_problem *prob, int linsol, cont_solver **out)
                     prob->ntest);
     if (linsol == CONT_LINSOL_AUTO)
         linsol = (prob->jac_matrix == CONT_MATRIX_SPARSE && n > CONT_AUTO_KLU_N)
-                     ? CONT_LINSOL_KLU : CONT_LINSOL_DENSE;
-    if (linsol != CONT_LINSOL_DENSE && linsol != CONT_LINSOL_KLU)
+                     ? CONT_LINSOL_MUMPS : CONT_LINSOL_DENSE;
+    if (linsol != CONT_LINSOL_DENSE && linsol != CONT_LINSOL_KLU && linsol != CONT_LINSOL_MUMPS)
         return ci_fail(s, CONT_EINPUT, "cont_create: unknown linear solver %d", linsol);
     s->linsol = linsol;
     s->n = n;
@@ -295,14 +295,14 @@ int cont_create(const cont_problem *prob, int linsol, cont_solver **out)
     }
     if (!s->Jy) return ci_fail(s, CONT_ENOMEM, "out of memory for the Jacobian (n = %ld)", n);
 
-    int sparse = linsol == CONT_LINSOL_KLU;
     sunindextype bnnz = (prob->jac_matrix == CONT_MATRIX_SPARSE ? SM_NNZ_S(s->Jy)
                                                                  : (sunindextype)n * n) +
                         2 * (sunindextype)n + 1;
-    if (ci_bm_init(s, &s->bk, m, sparse, bnnz, s->u) != CONT_OK ||
-        ci_bm_init(s, &s->bt, m, sparse, bnnz, s->u) != CONT_OK)
+    if (ci_bm_init(s, &s->bk, m, linsol, bnnz, s->u) != CONT_OK ||
+        ci_bm_init(s, &s->bt, m, linsol, bnnz, s->u) != CONT_OK)
         return ci_fail(s, CONT_ENOMEM, "cannot create the %s linear solver (n = %ld)",
-                    sparse ? "KLU" : "dense", n);
+                    linsol == CONT_LINSOL_KLU ? "KLU" : linsol == CONT_LINSOL_MUMPS ? "MUMPS"
+                                              : "dense", n);
 
     s->kmem = KINCreate(s->ctx);
     if (!s->kmem) return ci_fail(s, CONT_ENOMEM, "KINCreate failed");

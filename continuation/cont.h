@@ -44,7 +44,7 @@
  *        F(y, p) = 0,
  *        (W t0).(x - x0) - ds = 0,
  * whose Jacobian is the bordered matrix [Jy Fp; (W t0)^T], assembled from the
- * user's Jy and Fp, dense (SUNLinSol_Dense) or sparse CSC (SUNLinSol_KLU).
+ * user's Jy and Fp, dense (LAPACK LU) or sparse CSC (MUMPS or KLU).
  *
  * Step control.  A step is accepted when the corrector converges (max-norm
  * of the scaled residual <= ftol within max_newton iterations, last Newton
@@ -77,8 +77,8 @@
  *       bordered by the tangent.  Its sign is taken from the LU factors the
  *       tangent solve already computed (product of the signs of U's diagonal
  *       times the parity of the row and column permutations; for KLU also the
- *       positive row scaling), and its magnitude as log|det|, so it never
- *       overflows.  It keeps its sign through limit points and changes sign
+ *       positive row scaling; MUMPS computes it with its factors, ICNTL(33)),
+ *       and its magnitude as log|det|, so it never overflows.  It keeps its sign through limit points and changes sign
  *       at a simple branch point (Allgower-Georg, sec. 8.1);
  *   USER k: the user's test functions, k = 0..ntest-1.
  * When a test function changes sign between two consecutive points, its
@@ -102,7 +102,7 @@
  *   - dense: from the SVD of A (LAPACK dgesvd; the two right singular vectors
  *     of the smallest singular values), with a check that the null space is
  *     really two-dimensional (sigma_min / sigma_max <= 1e-6);
- *   - KLU: from the bordered (Govaerts) system
+ *   - KLU or MUMPS: from the bordered (Govaerts) system
  *       [A; (W t1)^T  b; c^T 0] [phi; mu] = [0; 0; 1],
  *     with fixed pseudo-random b, c: it is regular when [A; (W t1)^T] has a
  *     one-dimensional null space, and then mu = 0 and phi spans it, so no
@@ -111,14 +111,26 @@
  * leaves the branch point along t2 and the corrector hyperplane, orthogonal to
  * t2, cuts the second branch transversally (Keller 1977).
  *
- * Linear solver.  CONT_LINSOL_AUTO picks KLU when the user's Jy is sparse and
- * n > CONT_AUTO_KLU_N (200), dense otherwise.  Dense LU costs (2/3) n^3 flops
- * per Newton iteration: at n = 200 about 5 Mflop (a few ms), where KLU's
- * analysis and indirect addressing stop paying off for the banded or
- * block-sparse Jacobians of mechanics problems; from a few hundred unknowns
- * on dense LU dominates the run time.  A dense Jy may be used with KLU (all
- * n^2 entries are stored) and a sparse Jy with the dense solver (it is
- * scattered), which is how the two paths are compared in the tests.
+ * Linear solver.  CONT_LINSOL_AUTO picks MUMPS when the user's Jy is sparse
+ * and n > CONT_AUTO_KLU_N (200), dense otherwise.  Dense LU costs (2/3) n^3
+ * flops per Newton iteration: at n = 200 about 5 Mflop (a few ms), where a
+ * sparse factorisation's analysis and indirect addressing stop paying off
+ * for the block-sparse Jacobians of mechanics problems; from a few hundred
+ * unknowns on dense LU dominates the run time.
+ * CONT_LINSOL_MUMPS: MUMPS's unsymmetric multifrontal LU of the whole
+ * bordered matrix (cont_mumps.h), METIS ordering, symbolic analysis redone
+ * only when the pattern of the bordered matrix changes, workspace
+ * relaxation doubled and the factorisation retried on INFO -8/-9.
+ * CONT_LINSOL_KLU: KLU (COLAMD ordering), kept for comparison and for
+ * banded problems, where it is faster than MUMPS (Bratu, n = 400, tests).
+ * On saddle-point Jacobians (KKT matrices with a zero multiplier block)
+ * KLU's partial pivoting fills in badly: on the 5x5 Miura sheet in the
+ * pose formulation (n = 2034, 57k nonzeros) one bordered factorisation takes
+ * 0.40 s with KLU and 8.4 ms with MUMPS inside the engine
+ * (continuation/README.md).
+ * A dense Jy may be used with a sparse solver (all n^2 entries are stored)
+ * and a sparse Jy with the dense solver (it is scattered), which is how the
+ * paths are compared in the tests.
  *
  * LIFE CYCLE (SUNDIALS style; the caller drives the loop, GSL style)
  *
@@ -171,8 +183,9 @@ enum {
 enum { CONT_MATRIX_DENSE = 0, CONT_MATRIX_SPARSE = 1 };
 
 /* Linear solver for the bordered (n+1) systems. */
-enum { CONT_LINSOL_AUTO = 0, CONT_LINSOL_DENSE = 1, CONT_LINSOL_KLU = 2 };
-#define CONT_AUTO_KLU_N 200
+enum { CONT_LINSOL_AUTO = 0, CONT_LINSOL_DENSE = 1, CONT_LINSOL_KLU = 2,
+       CONT_LINSOL_MUMPS = 3 };
+#define CONT_AUTO_KLU_N 200   /* AUTO: sparse (MUMPS) above this n */
 
 /* Point types (cont_point.type). */
 enum {
@@ -211,7 +224,7 @@ typedef int (*cont_residual_fn)(const double *y, double p, double *F,
  * zeroes Jy (for sparse: data, row indices and column pointers) and Fp before
  * every call, so the user fills the whole structure each time.  A sparse Jy
  * may be enlarged with SUNSparseMatrix_Reallocate; the pattern may change
- * between calls (KLU then re-analyses).  Row indices within a column may
+ * between calls (the sparse solver then re-analyses).  Row indices within a column may
  * be unsorted; duplicate entries are refused.  Return 0 on success. */
 typedef int (*cont_jacobian_fn)(const double *y, double p, SUNMatrix Jy,
                                 double *Fp, void *user);
@@ -383,7 +396,7 @@ int cont_stop_reason(const cont_solver *s);
 const char *cont_stop_name(int reason);
 /* First error message ("" if none). */
 const char *cont_errmsg(const cont_solver *s);
-/* The linear solver in use (CONT_LINSOL_DENSE or CONT_LINSOL_KLU). */
+/* The linear solver in use (CONT_LINSOL_DENSE, _KLU or _MUMPS). */
 int cont_get_linsol(const cont_solver *s);
 /* Step size the next step will try. */
 double cont_get_ds(const cont_solver *s);

@@ -2,7 +2,7 @@
  * ALGORITHM): the user's residual and Jacobian wrapped (counting,
  * non-finite checks, checks of a sparse Jy's pattern), and the bordered
  * matrices [Jy Fp; c^T]: assembly (dense or sparse CSC), LU factorisation
- * (LAPACK or KLU), sign and log of the determinant, solves. */
+ * (LAPACK, KLU or MUMPS), sign and log of the determinant, solves. */
 #include "cont_impl.h"
 
 #include <stdlib.h>
@@ -101,16 +101,18 @@ int ci_call_jacobian(cont_solver *s, const double *y, double p)
     return 0;
 }
 
-int ci_bm_init(cont_solver *s, cont_bmat *bm, long m, int sparse,
+int ci_bm_init(cont_solver *s, cont_bmat *bm, long m, int linsol,
                sunindextype nnz, N_Vector tmpl)
 {
     memset(bm, 0, sizeof *bm);
     bm->m = m;
-    bm->sparse = sparse;
-    if (sparse) {
+    bm->sparse = linsol != CONT_LINSOL_DENSE;
+    bm->mumps = linsol == CONT_LINSOL_MUMPS;
+    if (bm->sparse) {
         bm->A = SUNSparseMatrix(m, m, nnz, CSC_MAT, s->ctx);
         if (!bm->A) return CONT_ENOMEM;
-        bm->LS = SUNLinSol_KLU(tmpl, bm->A, s->ctx);
+        bm->LS = bm->mumps ? cont_mumps(tmpl, bm->A, s->ctx)        /* cont_mumps.h */
+                           : SUNLinSol_KLU(tmpl, bm->A, s->ctx);
     } else {
         bm->A = SUNDenseMatrix(m, m, s->ctx);
         if (!bm->A) return CONT_ENOMEM;
@@ -178,8 +180,8 @@ sunindextype ci_jy_column(const cont_solver *s, long j, sunindextype *bi, double
     return k;
 }
 
-/* After filling a sparse bordered matrix: tell KLU to re-analyse when the
- * pattern differs from the one it has factorised before. */
+/* After filling a sparse bordered matrix: tell KLU or MUMPS to re-analyse
+ * when the pattern differs from the one it has factorised before. */
 static int bm_pattern_check(cont_bmat *bm)
 {
     sunindextype *ptr = SM_INDEXPTRS_S(bm->A), *idx = SM_INDEXVALS_S(bm->A);
@@ -201,7 +203,9 @@ static int bm_pattern_check(cont_bmat *bm)
     }
     memcpy(bm->pat_ptr, ptr, (size_t)(bm->m + 1) * sizeof *ptr);
     memcpy(bm->pat_idx, idx, (size_t)nnz * sizeof *idx);
-    if (bm->pat_valid)
+    if (bm->mumps)
+        cont_mumps_new_pattern(bm->LS);
+    else if (bm->pat_valid)
         SUNLinSol_KLUReInit(bm->LS, bm->A, SM_NNZ_S(bm->A), SUNKLU_REINIT_PARTIAL);
     bm->pat_valid = 1;
     return 0;
@@ -278,7 +282,10 @@ int ci_bm_factor(cont_solver *s, cont_bmat *bm, int *sign, double *logdet)
     s->stp.nfactor++;
     int r = SUNLinSolSetup(bm->LS, bm->A);
     if (r != 0) {
-        if (bm->sparse)
+        if (bm->mumps)
+            ci_why(s, "MUMPS could not factorise the bordered matrix (INFOG(1) = %ld%s)",
+                (long)SUNLinSolLastFlag(bm->LS), r == SUNLS_LUFACT_FAIL ? ", singular" : "");
+        else if (bm->sparse)
             ci_why(s, "KLU could not factorise the bordered matrix (flag %d, "
                 "singular or not finite)", r);
         else
@@ -300,6 +307,11 @@ int ci_bm_factor(cont_solver *s, cont_bmat *bm, int *sign, double *logdet)
             else if (d == 0) sg = 0;
             ld += log(fabs(d));
             if (piv[k] - 1 != k) sg = -sg;
+        }
+    } else if (bm->mumps) {
+        if (cont_mumps_det(bm->LS, &sg, &ld) != 0) {
+            ci_why(s, "MUMPS factorisation not available");
+            return -1;
         }
     } else {
         sun_klu_numeric *num = SUNLinSol_KLUGetNumeric(bm->LS);

@@ -27,6 +27,7 @@
 
 #include "cont.h"
 #include "cont_lapack.h"
+#include "cont_mumps.h"
 
 #include <kinsol/kinsol.h>
 #include <nvector/nvector_serial.h>
@@ -49,10 +50,11 @@ enum { ST_IDLE = 0, ST_RUN, ST_DONE, ST_FAIL };
 
 typedef struct cont_bmat {
     long m;                   /* order */
-    int sparse;
+    int sparse;               /* CSC storage (KLU or MUMPS) */
+    int mumps;                /* factorised by MUMPS (cont_mumps.h), else KLU */
     SUNMatrix A;
     SUNLinearSolver LS;
-    sunindextype *pat_ptr, *pat_idx;  /* last pattern given to KLU */
+    sunindextype *pat_ptr, *pat_idx;  /* last pattern analysed */
     sunindextype pat_cap;
     int pat_valid;
 } cont_bmat;
@@ -152,7 +154,7 @@ void ci_why(cont_solver *s, const char *fmt, ...)
 int ci_bm_build(cont_solver *s, cont_bmat *bm, const double *c);
 int ci_bm_factor(cont_solver *s, cont_bmat *bm, int *sign, double *logdet);
 void ci_bm_free(cont_bmat *bm);
-int ci_bm_init(cont_solver *s, cont_bmat *bm, long m, int sparse,
+int ci_bm_init(cont_solver *s, cont_bmat *bm, long m, int linsol,
                sunindextype nnz, N_Vector tmpl);
 int ci_bm_solve(cont_solver *s, cont_bmat *bm, N_Vector x, N_Vector b);
 int ci_call_jacobian(cont_solver *s, const double *y, double p);

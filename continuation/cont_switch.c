@@ -1,6 +1,7 @@
 /* cont_switch.c - branch switching at a simple branch point
  * (cont_branch_direction, cont.h): the second null vector of the augmented
- * Jacobian, dense (LAPACK SVD) or sparse (bordered solves with KLU). */
+ * Jacobian, dense (LAPACK SVD) or sparse (bordered solves with KLU or
+ * MUMPS, whichever the solver uses). */
 #include "cont_impl.h"
 
 #include <stdlib.h>
@@ -72,7 +73,7 @@ static int branch_dense(cont_solver *s, const double *t1s, const double *t1w, do
     return CONT_OK;
 }
 
-/* KLU: bordered system [[A_s; t1w^T] bv; cv^T 0] [phi; mu] = [0; 1]. */
+/* KLU or MUMPS: bordered system [[A_s; t1w^T] bv; cv^T 0] [phi; mu] = [0; 1]. */
 static int branch_sparse(cont_solver *s, const double *t1w, double *u, double *resid)
 {
     long n = s->n, m = s->m, M = m + 1;
@@ -81,7 +82,9 @@ static int branch_sparse(cont_solver *s, const double *t1w, double *u, double *r
     N_Vector x = N_VNew_Serial(M, s->ctx), rhs = N_VNew_Serial(M, s->ctx);
     sunindextype nnz = ci_jy_nnz(s) + 4 * (sunindextype)m + 2;
     SUNMatrix B = SUNSparseMatrix(M, M, nnz, CSC_MAT, s->ctx);
-    SUNLinearSolver LS = (B && x) ? SUNLinSol_KLU(x, B, s->ctx) : NULL;
+    SUNLinearSolver LS = NULL;
+    if (B && x)
+        LS = s->linsol == CONT_LINSOL_MUMPS ? cont_mumps(x, B, s->ctx) : SUNLinSol_KLU(x, B, s->ctx);
     if (!bv || !cv || !x || !rhs || !B || !LS) {
         rc = ci_fail(s, CONT_ENOMEM, "out of memory");
         goto done;
@@ -200,7 +203,7 @@ int cont_branch_direction(cont_solver *s, const double *y, double p,
     }
     double q;
     if (rc == CONT_OK)
-        rc = s->linsol == CONT_LINSOL_KLU ? branch_sparse(s, t1w, u, &q)
+        rc = s->linsol != CONT_LINSOL_DENSE ? branch_sparse(s, t1w, u, &q)
                                           : branch_dense(s, t1s, t1w, u, &q);
     if (rc == CONT_OK) {
         /* remove any t1 component, normalise, fix the sign */

@@ -54,14 +54,17 @@ static int fold_test(const double *y, double p, const double *ty, double tp, dou
     return 0;
 }
 
-static void test_fold_limit_point(void **state)
+/* the same checks with every linear solver (a dense Jy is stored whole in
+ * the sparse bordered matrix) */
+static void fold_case(int linsol)
 {
-    (void)state;
     static const char *const labels[] = {"X05"};
     cont_problem prob = {.n = 1, .residual = fold_res, .jacobian = fold_jac,
                          .jac_matrix = CONT_MATRIX_DENSE, .ntest = 1, .test = fold_test,
                          .test_labels = labels};
-    cont_solver *s = make(&prob, CONT_LINSOL_AUTO);
+    cont_solver *s = make(&prob, linsol);
+    CHECK_TRUE(linsol == CONT_LINSOL_AUTO || cont_get_linsol(s) == linsol,
+               "linear solver %d, asked for %d", cont_get_linsol(s), linsol);
     CHECK_OK(cont_set_step(s, 0.05, 1e-8, 0.2), s);
     CHECK_OK(cont_set_prange(s, -1.0, 1.0), s);
     double y0 = 1.0;
@@ -114,6 +117,19 @@ static void test_fold_limit_point(void **state)
     cont_free(s);
 }
 
+static void test_fold_limit_point(void **state)
+{
+    (void)state;
+    fold_case(CONT_LINSOL_AUTO);
+}
+
+static void test_fold_klu_mumps(void **state)
+{
+    (void)state;
+    fold_case(CONT_LINSOL_KLU);
+    fold_case(CONT_LINSOL_MUMPS);
+}
+
 /* ------------------------------------------------------------------ */
 /* pitchfork: F = (x (p - x^2), y - x^2)                                */
 
@@ -153,14 +169,14 @@ static int pf_jac_sparse(const double *v, double p, SUNMatrix J, double *Fp, voi
     return 0;
 }
 
-static void pitchfork_case(int sparse)
+static void pitchfork_case(int linsol)
 {
+    int sparse = linsol != CONT_LINSOL_DENSE;
     cont_problem prob = {.n = 2, .residual = pf_res,
                          .jacobian = sparse ? pf_jac_sparse : pf_jac,
                          .jac_matrix = sparse ? CONT_MATRIX_SPARSE : CONT_MATRIX_DENSE};
-    cont_solver *s = make(&prob, sparse ? CONT_LINSOL_KLU : CONT_LINSOL_DENSE);
-    CHECK_TRUE(cont_get_linsol(s) == (sparse ? CONT_LINSOL_KLU : CONT_LINSOL_DENSE),
-               "linear solver %d", cont_get_linsol(s));
+    cont_solver *s = make(&prob, linsol);
+    CHECK_TRUE(cont_get_linsol(s) == linsol, "linear solver %d", cont_get_linsol(s));
     CHECK_OK(cont_set_step(s, 0.1, 1e-8, 0.3), s);
     CHECK_OK(cont_set_prange(s, -1.0, 1.0), s);
     double y0[2] = {0.0, 0.0};
@@ -212,23 +228,30 @@ static void pitchfork_case(int sparse)
 static void test_pitchfork_dense(void **state)
 {
     (void)state;
-    pitchfork_case(0);
+    pitchfork_case(CONT_LINSOL_DENSE);
 }
 
 static void test_pitchfork_klu(void **state)
 {
     (void)state;
-    pitchfork_case(1);
+    pitchfork_case(CONT_LINSOL_KLU);
+}
+
+static void test_pitchfork_mumps(void **state)
+{
+    (void)state;
+    pitchfork_case(CONT_LINSOL_MUMPS);
 }
 
 /* Going up the bifurcated branch x = sqrt(p) from p = 0.25 down through the
  * BP: t_p and the determinant change sign together; one BP is reported. */
-static void test_pitchfork_through_bp_on_branch(void **state)
+static void pitchfork_branch_case(int linsol)
 {
-    (void)state;
-    cont_problem prob = {.n = 2, .residual = pf_res, .jacobian = pf_jac,
-                         .jac_matrix = CONT_MATRIX_DENSE};
-    cont_solver *s = make(&prob, CONT_LINSOL_DENSE);
+    int sparse = linsol != CONT_LINSOL_DENSE;
+    cont_problem prob = {.n = 2, .residual = pf_res,
+                         .jacobian = sparse ? pf_jac_sparse : pf_jac,
+                         .jac_matrix = sparse ? CONT_MATRIX_SPARSE : CONT_MATRIX_DENSE};
+    cont_solver *s = make(&prob, linsol);
     CHECK_OK(cont_set_step(s, 0.05, 1e-8, 0.1), s);
     CHECK_OK(cont_set_prange(s, -1.0, 0.5), s);
     CHECK_OK(cont_set_max_steps(s, 200), s);
@@ -248,6 +271,55 @@ static void test_pitchfork_through_bp_on_branch(void **state)
     CHECK_TRUE(ep->p == 0.5, "EP p = %.17g, expected 0.5", ep->p);
     CHECK_CLOSE(ep->y[0], -sqrt(0.5), 1e-10);
     cont_free(s);
+}
+
+static void test_pitchfork_through_bp_on_branch(void **state)
+{
+    (void)state;
+    pitchfork_branch_case(CONT_LINSOL_DENSE);
+    pitchfork_branch_case(CONT_LINSOL_KLU);
+    pitchfork_branch_case(CONT_LINSOL_MUMPS);
+}
+
+/* The determinant sign point by point along the trivial branch of the
+ * pitchfork, through its BP: the three solvers see the same path and must
+ * give the same signs, and the sign must change exactly once, at the BP. */
+static void test_det_sign_solvers_agree(void **state)
+{
+    (void)state;
+    int ls[3] = {CONT_LINSOL_DENSE, CONT_LINSOL_KLU, CONT_LINSOL_MUMPS};
+    int sg[3][64];
+    long np[3];
+    for (int k = 0; k < 3; k++) {
+        cont_problem prob = {.n = 2, .residual = pf_res, .jacobian = pf_jac_sparse,
+                             .jac_matrix = CONT_MATRIX_SPARSE};
+        cont_solver *s = make(&prob, ls[k]);
+        CHECK_OK(cont_set_step(s, 0.1, 1e-8, 0.1), s);
+        CHECK_OK(cont_set_prange(s, -1.0, 1.0), s);
+        double y0[2] = {0.0, 0.0};
+        CHECK_OK(cont_start(s, y0, -1.0, +1), s);
+        CHECK_TRUE(cont_run(s) == CONT_DONE, "solver %d: %s", ls[k], cont_errmsg(s));
+        np[k] = cont_num_points(s);
+        CHECK_TRUE(np[k] > 10 && np[k] <= 64, "solver %d: %ld points", ls[k], np[k]);
+        int changes = 0;
+        for (long i = 0; i < np[k] && i < 64; i++) {
+            const cont_point *q = cont_point_at(s, i);
+            sg[k][i] = q->det_sign;
+            if (q->type == CONT_PT_BP) continue;
+            CHECK_TRUE(q->det_sign == (q->p < 0 ? 1 : -1) * sg[k][0],
+                       "solver %d, point %ld (p = %g): det sign %d", ls[k], i, q->p, q->det_sign);
+            if (i > 0 && sg[k][i] != sg[k][i - 1] && cont_point_at(s, i - 1)->type != CONT_PT_BP)
+                changes++;
+        }
+        CHECK_TRUE(count_label(s, "BP") == 1, "solver %d: %d BP", ls[k], count_label(s, "BP"));
+        cont_free(s);
+    }
+    for (int k = 1; k < 3; k++) {
+        CHECK_TRUE(np[k] == np[0], "solver %d: %ld points, dense %ld", ls[k], np[k], np[0]);
+        for (long i = 0; i < np[0] && i < np[k] && i < 64; i++)
+            CHECK_TRUE(sg[k][i] == sg[0][i], "solver %d, point %ld: det sign %d, dense %d",
+                       ls[k], i, sg[k][i], sg[0][i]);
+    }
 }
 
 /* ------------------------------------------------------------------ */
@@ -410,17 +482,23 @@ static void test_bratu_klu_vs_dense(void **state)
 {
     (void)state;
     long N = 400;
-    int ls_auto = -1, ls_dense = -1;
-    cont_stats ta, td;
-    double lam_klu = bratu_lp(N, CONT_MATRIX_SPARSE, CONT_LINSOL_AUTO, 3.0, &ls_auto, &ta);
+    int ls_auto = -1, ls_dense = -1, ls_klu = -1;
+    cont_stats ta, td, tk;
+    double lam_mumps = bratu_lp(N, CONT_MATRIX_SPARSE, CONT_LINSOL_AUTO, 3.0, &ls_auto, &ta);
     double lam_dense = bratu_lp(N, CONT_MATRIX_SPARSE, CONT_LINSOL_DENSE, 3.0, &ls_dense, &td);
-    CHECK_TRUE(ls_auto == CONT_LINSOL_KLU, "AUTO with a sparse Jy and n = 400 chose %d", ls_auto);
+    double lam_klu = bratu_lp(N, CONT_MATRIX_SPARSE, CONT_LINSOL_KLU, 3.0, &ls_klu, &tk);
+    CHECK_TRUE(ls_auto == CONT_LINSOL_MUMPS, "AUTO with a sparse Jy and n = 400 chose %d",
+               ls_auto);
     CHECK_TRUE(ls_dense == CONT_LINSOL_DENSE, "forced dense gave %d", ls_dense);
+    CHECK_TRUE(ls_klu == CONT_LINSOL_KLU, "forced KLU gave %d", ls_klu);
     CHECK_CLOSE(lam_klu, lam_dense, 1e-8 * lam_dense);
+    CHECK_CLOSE(lam_mumps, lam_dense, 1e-8 * lam_dense);
     double ref = bratu_shoot_lstar(N);
     CHECK_CLOSE(lam_klu, ref, 1e-8 * ref);
-    print_message("# Bratu N = 400: KLU %.12f (%.3f s), dense %.12f (%.3f s), shooting %.12f\n",
-                  lam_klu, ta.wall, lam_dense, td.wall, ref);
+    CHECK_CLOSE(lam_mumps, ref, 1e-8 * ref);
+    print_message("# Bratu N = 400: MUMPS %.12f (%.3f s), KLU %.12f (%.3f s), dense %.12f "
+                  "(%.3f s), shooting %.12f\n", lam_mumps, ta.wall, lam_klu, tk.wall, lam_dense,
+                  td.wall, ref);
 }
 
 /* ------------------------------------------------------------------ */
@@ -639,9 +717,12 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fold_limit_point),
+        cmocka_unit_test(test_fold_klu_mumps),
         cmocka_unit_test(test_pitchfork_dense),
         cmocka_unit_test(test_pitchfork_klu),
+        cmocka_unit_test(test_pitchfork_mumps),
         cmocka_unit_test(test_pitchfork_through_bp_on_branch),
+        cmocka_unit_test(test_det_sign_solvers_agree),
         cmocka_unit_test(test_bratu_convergence),
         cmocka_unit_test(test_bratu_klu_vs_dense),
         cmocka_unit_test(test_failure_diagnosis),

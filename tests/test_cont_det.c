@@ -1,5 +1,5 @@
 /* test_cont_det.c - the continuation engine's determinant of the augmented
- * Jacobian, dense (LAPACK) and sparse (KLU), against an independent
+ * Jacobian, dense (LAPACK) and sparse (KLU, MUMPS), against an independent
  * Gaussian elimination, and the check of a sparse Jacobian's pattern (a
  * duplicate entry is refused with a message). */
 #include <setjmp.h>
@@ -19,7 +19,7 @@
 #include "cont_test.h"
 
 /* ------------------------------------------------------------------ */
-/* determinant of the augmented Jacobian: dense and KLU against an      */
+/* determinant of the augmented Jacobian: dense, KLU, MUMPS against an  */
 /* independent Gaussian elimination; F = A y - p b (linear), theta = 2  */
 
 #define LN 7
@@ -87,10 +87,12 @@ static void test_det_dense_klu(void **state)
 {
     (void)state;
     const double theta = 2.0;
-    for (int ls = 0; ls < 2; ls++) {
+    static const int solver[3] = {CONT_LINSOL_DENSE, CONT_LINSOL_KLU, CONT_LINSOL_MUMPS};
+    static const char *const name[3] = {"dense", "KLU", "MUMPS"};
+    for (int ls = 0; ls < 3; ls++) {
         cont_problem prob = {.n = LN, .residual = lin_res, .jacobian = lin_jac_sparse,
                              .jac_matrix = CONT_MATRIX_SPARSE, .jac_nnz = 2};  /* grows */
-        cont_solver *s = make(&prob, ls ? CONT_LINSOL_KLU : CONT_LINSOL_DENSE);
+        cont_solver *s = make(&prob, solver[ls]);
         CHECK_OK(cont_set_theta(s, theta), s);
         CHECK_OK(cont_set_max_steps(s, 3), s);
         double y0[LN] = {0};
@@ -121,7 +123,7 @@ static void test_det_dense_klu(void **state)
                 M[LN * m + LN] = theta * theta * q->tp;
                 double ld = ge_logdet(M, m, &sg);
                 CHECK_TRUE(q->det_sign == sg, "%s, dir %d, point %ld: det sign %d, expected %d",
-                           ls ? "KLU" : "dense", dir, k, q->det_sign, sg);
+                           name[ls], dir, k, q->det_sign, sg);
                 CHECK_CLOSE(q->log_abs_det, ld, 1e-10 * (1.0 + fabs(ld)));
             }
         }

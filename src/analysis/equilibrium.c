@@ -399,7 +399,7 @@ int sf_equil_create_solver(sf_equil *q, cont_solver **out)
         prob.jac_nnz = (long)q->n * q->n;
     }
     *out = NULL;
-    int rc = cont_create(&prob, q->sparse ? CONT_LINSOL_KLU : CONT_LINSOL_DENSE, out);
+    int rc = cont_create(&prob, q->sparse ? sf_equil_sparse_linsol(q) : CONT_LINSOL_DENSE, out);
     if (rc == CONT_OK && q->ncon > 0) {
         double *w = calloc((size_t)q->n, sizeof(double));
         if (!w) return CONT_ENOMEM;
@@ -410,7 +410,16 @@ int sf_equil_create_solver(sf_equil *q, cont_solver **out)
     return rc;
 }
 
-void sf_equil_use_sparse(sf_equil *q, int sparse) { q->sparse = sparse != 0; }
+void sf_equil_use_sparse(sf_equil *q, int sparse)
+{
+    q->sparse = sparse != 0;
+    q->linsol = sparse == CONT_LINSOL_KLU ? CONT_LINSOL_KLU : CONT_LINSOL_MUMPS;
+}
+
+int sf_equil_sparse_linsol(const sf_equil *q)
+{
+    return q->linsol == CONT_LINSOL_KLU ? CONT_LINSOL_KLU : CONT_LINSOL_MUMPS;
+}
 
 int sf_equil_jacobian_sparse(const double *y, double p, SUNMatrix Jy, double *Fp, void *user)
 {

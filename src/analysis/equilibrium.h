@@ -56,6 +56,7 @@ typedef struct sf_equil {
     /* sparse linear algebra (sf_equil_use_sparse): dense assembly, then
      * compressed to CSC over the union of the nonzero patterns seen */
     int sparse;
+    int linsol;           /* sparse solver: CONT_LINSOL_KLU or _MUMPS (0: MUMPS) */
     SUNMatrix Jd;
     unsigned char *pattern;
     /* Optional: called at the end of sf_equil_set_param (so also inside
@@ -85,14 +86,20 @@ int sf_equil_parse_param(const sf_study *s, int *param, int *group, int *probe,
  * and for the penalty homotopy that starts exact paths off the flat state. */
 void sf_equil_use_penalty(sf_equil *q, double lR, double ld);
 
-/* Solve the Newton systems with KLU on a compressed sparse (CSC) Jacobian
- * instead of dense LU (solver.linear_solver = "sparse").  The Jacobian is
- * assembled densely, then compressed: what changes is the factorisation. */
+/* Solve the Newton systems with a sparse LU on a compressed sparse (CSC)
+ * Jacobian instead of dense LU (solver.linear_solver = "sparse", "mumps"
+ * or "klu"): sparse is 0 (dense), or the engine's solver CONT_LINSOL_MUMPS
+ * or CONT_LINSOL_KLU (any other nonzero value: MUMPS).  The Jacobian is
+ * assembled densely, then compressed: what changes is the factorisation.
+ * The pose formulation is always sparse; this chooses its solver too
+ * (MUMPS unless KLU is asked for). */
 void sf_equil_use_sparse(sf_equil *q, int sparse);
 int sf_equil_jacobian_sparse(const double *y, double p, SUNMatrix Jy, double *Fp, void *user);
+/* The sparse solver chosen by sf_equil_use_sparse (CONT_LINSOL_MUMPS or _KLU). */
+int sf_equil_sparse_linsol(const sf_equil *q);
 
 
-/* A continuation solver for this problem: dense LU, or KLU after
+/* A continuation solver for this problem: dense LU, or the sparse solver of
  * sf_equil_use_sparse.  When there are
  * multipliers, the arclength norm weighs the coordinates q and p only
  * (cont_set_weights: multipliers weigh 0): the multipliers of loop rows

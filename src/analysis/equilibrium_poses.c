@@ -466,7 +466,7 @@ int sf_peq_create_solver(sf_equil *q, cont_solver **out)
     prob.fscale = q->fscale;
     prob.user = q;
     *out = NULL;
-    int rc = cont_create(&prob, CONT_LINSOL_KLU, out);
+    int rc = cont_create(&prob, sf_equil_sparse_linsol(q), out);   /* MUMPS unless "klu" */
     if (rc == CONT_OK) {
         /* the arclength norm of the fold formulation: fold coordinates
          * and p (the poses follow from them) */

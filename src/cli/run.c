@@ -531,7 +531,9 @@ static int run_equilibrium(run_ctx *r)
         sf_equil_use_penalty(eq, s->penalty_rotation, s->penalty_translation);
     const char *linsol;
     if (sf_study_string(s, "solver.linear_solver", "dense", &linsol, err)) return err->code;
-    sf_equil_use_sparse(eq, strcmp(linsol, "sparse") == 0);
+    sf_equil_use_sparse(eq, strcmp(linsol, "klu") == 0    ? CONT_LINSOL_KLU
+                            : strcmp(linsol, "dense") == 0 ? 0
+                                                           : CONT_LINSOL_MUMPS);
     const char *formulation;
     if (sf_study_string(s, "solver.formulation", "folds", &formulation, err)) return err->code;
     if (strcmp(formulation, "poses") == 0 && sf_equil_use_poses(eq, err)) return err->code;

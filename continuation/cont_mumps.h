@@ -1,0 +1,36 @@
+/* cont_mumps.h - MUMPS (sequential, unsymmetric multifrontal LU) as a
+ * SUNLinearSolver for a square CSC SUNSparseMatrix: the sparse solver of the
+ * engine's bordered systems [Jy Fp; c^T] (CONT_LINSOL_MUMPS, cont.h).
+ *
+ * Setup analyses the pattern (METIS ordering) only when
+ * cont_mumps_new_pattern was called since the last analysis (the engine
+ * tracks pattern changes, cont_bordered.c), then factorises; the
+ * determinant is computed with the factors (MUMPS ICNTL(33)).  When the
+ * workspace the analysis predicted is too small (INFO(1) = -8 or -9, e.g.
+ * after delayed pivots), the factorisation is retried with twice the
+ * relaxation ICNTL(14), up to 1600 %.  A singular matrix fails setup with
+ * SUNLS_LUFACT_FAIL; the MUMPS code is available from SUNLinSolLastFlag.
+ * The solver never prints. */
+#ifndef CONT_MUMPS_H
+#define CONT_MUMPS_H
+
+#include <sundials/sundials_linearsolver.h>
+#include <sundials/sundials_matrix.h>
+#include <sundials/sundials_nvector.h>
+
+/* A solver for the m x m CSC matrix A (m = length of y).  NULL on failure
+ * (wrong matrix type, out of memory, MUMPS initialisation failed). */
+SUNLinearSolver cont_mumps(N_Vector y, SUNMatrix A, SUNContext ctx);
+
+/* The next setup re-analyses the pattern. */
+void cont_mumps_new_pattern(SUNLinearSolver S);
+
+/* After a successful setup: sign (+1/-1) and natural log of |det A|.
+ * Returns 0, or -1 without factors. */
+int cont_mumps_det(SUNLinearSolver S, int *sign, double *logabs);
+
+/* Counters since creation: analyses, factorisations, workspace relaxations;
+ * MUMPS's own timings are not used (none of these may be NULL). */
+void cont_mumps_counts(SUNLinearSolver S, long *analyses, long *factors, long *relax);
+
+#endif
