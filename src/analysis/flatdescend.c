@@ -10,9 +10,13 @@
  * of the reduced Hessian H_c = Z^T HL Z (Z: the null space of the
  * constraint rows, as in stability.c), on either side, to an equilibrium
  * of lower energy at the same p1.  This file takes both sides with Newton
- * at fixed p1 from the saddle pushed along +-v (steps of growing size),
- * keeps the converged states whose H_c is positive definite (stable) and
- * which differ from the saddle, and orders them by energy.  Two of equal
+ * at fixed p1 from the saddle pushed along +-v (5% to 80% of its largest
+ * coordinate), keeps the converged states that differ from the saddle
+ * (1e-3 of that coordinate), lie below its energy and whose H_c is
+ * positive definite (stable), and orders them by energy.  Pushes that
+ * come back to the saddle are counted: on the 2x2 waterbomb tessellation
+ * all do, the negative curvature being that of the linearised loop rows
+ * only (docs/flatstart.md).  Two of equal
  * energy (a symmetric driving) are mirror images: the driving selects
  * neither, and the caller says so.  Dense LAPACK (dgesvd, dsyev): for the
  * small sheets where the dense cone start runs at all. */
