@@ -8,3 +8,9 @@ tests_test_poses_LDADD = $(SF_TEST_LIBS)
 EXTRA_DIST += tests/studies/miura2.cfg tests/studies/miura4.cfg bench/miura-study.sh
 TESTS += tests/test_poses_run.sh
 EXTRA_DIST += tests/test_poses_run.sh
+# the redundant fold rows of the pose formulation removed (poses_rowsel.c)
+check_PROGRAMS += tests/test_rowsel
+TESTS += tests/test_rowsel
+tests_test_rowsel_SOURCES = tests/test_rowsel.c
+tests_test_rowsel_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_rowsel_LDADD = $(SF_TEST_LIBS)

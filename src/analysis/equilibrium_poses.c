@@ -12,13 +12,25 @@
 #include "cont.h"
 #include "flatstart.h"
 #include "poses.h"
+#include "poses_rowsel.h"
 #include "shape.h"
+#include "study.h"
 
+/* the generic state of the row selection and the QR's rank tolerance
+ * (relative to the longest scaled row; docs/formulations.md) */
+#define ROWSEL_SEED 20261123u
+#define ROWSEL_RTOL 1e-9
+#define ROWSEL_AMP 0.1
 
 struct sf_peq {
     sf_poses P;
     sf_triplets T;
     int nx;
+    /* the fold rows kept (poses_rowsel.h): kidx[6 N] = index among the
+     * kept rows (multiplier nx + kidx) or -1 for a dropped row; frow[nloop]
+     * = the fold row of each kept one */
+    int *kidx, *frow, ndrop;
+    int grank;            /* rank of the fold rows at the generic state (-1: not computed) */
     double *work, *dg, *Hl, *dx;
     int *col;
     /* the KKT blocks for sstab.h (sf_peq_kkt_csc): HL's lower triangle and
@@ -150,14 +162,15 @@ static double assemble(sf_equil *q, const double *y, double p, double *F, int ja
                              e->fold_ref + 3 * i, F3, dF3, F, jac, Fp);
         }
     }
-    /* fold rows: 6 per fold */
+    /* fold rows: the kept ones of the 6 per fold */
     for (int i = 0; i < m->nfolds; i++) {
         int nv = sf_poses_fold_vars(&z->P, i, z->col);
-        double g[6];
-        const double *li = lam + 6 * i;
+        double g[6], li[6];
+        for (int c = 0; c < 6; c++) li[c] = z->kidx[6 * i + c] >= 0 ? lam[z->kidx[6 * i + c]] : 0.0;
         sf_poses_fold_rows(&z->P, y, i, g, z->dg, jac ? li : NULL, jac ? z->Hl : NULL, z->work);
         for (int c = 0; c < 6; c++) {
-            int row = nx + 6 * i + c;
+            if (z->kidx[6 * i + c] < 0) continue;
+            int row = nx + z->kidx[6 * i + c];
             if (F) F[row] = g[c];
             add_row(z, row, nv, z->dg + c * nv, li[c], F, jac);
         }
@@ -207,10 +220,47 @@ static void poses_scales(sf_equil *q)
         q->fscale[j] = pos ? q->lref / q->kref : 1.0 / q->kref;
     }
     for (int r = 0; r < q->ncon; r++) {
-        int rot = r < q->nloop && r % 6 < 3;
+        int rot = r < q->nloop && q->pz->frow[r] % 6 < 3;
         q->yscale[nx + r] = rot ? 1.0 / q->kref : q->lref / q->kref;
         q->fscale[nx + r] = rot ? 1.0 : 1.0 / q->lref;
     }
+}
+
+/* The fold rows kept (poses_rowsel.h): all of them (solver.pose_rows =
+ * "all", the default), or a maximal independent set at a generic state
+ * ("independent": not valid from the flat state on every sheet, see
+ * docs/formulations.md). */
+static int select_rows(sf_equil *q, sf_error *err)
+{
+    struct sf_peq *z = q->pz;
+    const sf_model *m = q->m;
+    int nr = 6 * m->nfolds, nkeep = nr;
+    const char *mode;
+    if (sf_study_string(m->study, "solver.pose_rows", "all", &mode, err)) return err->code;
+    z->kidx = malloc(sizeof(int) * ((size_t)nr + 1));
+    z->frow = malloc(sizeof(int) * ((size_t)nr + 1));
+    double *x = calloc((size_t)z->nx + 1, sizeof(double));
+    int rc = SF_OK;
+    if (!z->kidx || !z->frow || !x) rc = sf_fail(err, SF_ENOMEM, "out of memory");
+    else {
+        for (int r = 0; r < nr; r++) z->kidx[r] = 1;
+        z->grank = -1;
+        if (strcmp(mode, "independent") == 0) {
+            rc = sf_rowsel_generic_state(&z->P, q->lref, ROWSEL_AMP, ROWSEL_SEED, x)
+                     ? sf_fail(err, SF_ENOMEM, "out of memory")
+                     : sf_rowsel_select(&z->P, x, q->lref, ROWSEL_RTOL, z->kidx, &nkeep, &z->grank,
+                                  err);
+        }
+    }
+    free(x);
+    if (rc) return rc;
+    int k = 0;
+    for (int r = 0; r < nr; r++) {
+        if (z->kidx[r]) z->frow[k] = r;
+        z->kidx[r] = z->kidx[r] ? k++ : -1;
+    }
+    z->ndrop = nr - k;
+    return SF_OK;
 }
 
 int sf_equil_use_poses(sf_equil *q, sf_error *err)
@@ -233,7 +283,8 @@ int sf_equil_use_poses(sf_equil *q, sf_error *err)
     z->dx = calloc(3 * (size_t)nv, sizeof(double));
     z->col = calloc((size_t)nv, sizeof(int));
     q->nq = z->nx;
-    q->nloop = 6 * m->nfolds;
+    if (select_rows(q, err)) return err->code;
+    q->nloop = 6 * m->nfolds - z->ndrop;
     q->ncon = q->nloop + q->nsup;
     q->n = q->nq + q->ncon;
     free(q->yscale);
@@ -269,6 +320,8 @@ void sf_peq_free(sf_equil *q)
     free(z->Hl);
     free(z->dx);
     free(z->col);
+    free(z->kidx);
+    free(z->frow);
     free(z->hp); free(z->hi); free(z->cpc); free(z->ci);
     free(z->hsrc); free(z->csrc); free(z->hv); free(z->cv);
     free(z);
@@ -441,6 +494,31 @@ void sf_peq_report(sf_equil *q, const double *y, double p, double *Pi, double *r
     }
     *res_rot = rr;
     *res_tra = rt;
+}
+
+int sf_peq_rows_dropped(const sf_equil *q) { return q->pz ? q->pz->ndrop : 0; }
+
+int sf_peq_rows_rank(const sf_equil *q) { return q->pz ? q->pz->grank : -1; }
+
+double sf_peq_dropped_residual(sf_equil *q, const double *y)
+{
+    struct sf_peq *z = q->pz;
+    double worst = 0.0;
+    if (!z || !z->ndrop) return 0.0;
+    for (int i = 0; i < q->m->nfolds; i++) {
+        int any = 0;
+        for (int c = 0; c < 6; c++) any |= z->kidx[6 * i + c] < 0;
+        if (!any) continue;
+        double g[6];
+        sf_poses_fold_rows(&z->P, y, i, g, NULL, NULL, NULL, z->work);
+        for (int c = 0; c < 6; c++)
+            if (z->kidx[6 * i + c] < 0) {
+                /* scaled as Newton scales the kept rows (poses_scales) */
+                double v = fabs(g[c]) * (c < 3 ? 1.0 : 1.0 / q->lref);
+                worst = isfinite(v) ? fmax(worst, v) : INFINITY;
+            }
+    }
+    return worst;
 }
 
 static int peq_jac_cb(const double *y, double p, SUNMatrix Jy, double *Fp, void *user)

@@ -2,8 +2,10 @@
  * face-pose formulation (MODEL.md 9, src/model/poses.h), behind the same
  * sf_equil: after sf_equil_use_poses the unknowns are
  *   y = (x, lambda),  x = (q, face poses) (nx = q->nq values, the fold
- *   coordinates first, see poses.h), lambda = 6 rows per fold (rotation,
- *   translation: q->nloop = 6 N), then the support and displacement rows,
+ *   coordinates first, see poses.h), lambda = the kept ones of the 6 rows
+ *   per fold (rotation, translation; q->nloop of 6 N, in fold-row order:
+ *   a maximal independent set, poses_rowsel.h), then the support and
+ *   displacement rows,
  * and sf_equil_residual, sf_equil_jacobian(_sparse), sf_equil_kkt,
  * sf_equil_report and sf_equil_create_solver use the functions below.
  * The Jacobian [HL J^T; J -eps D] is assembled directly into CSC: its
@@ -50,6 +52,17 @@ int sf_peq_kkt_csc(sf_equil *q, const double *y, double p, sf_csc *HL, sf_csc *C
  * start (flatstart_sparse.h).  SF_OK or SF_ENUMERIC (non-finite value). */
 int sf_peq_jacobian_csc(sf_equil *q, const double *y, double p, const long **colptr,
                         const int **rowind, const double **val, double *Fp);
+
+/* Fold rows dropped as dependent at a generic state (poses_rowsel.h,
+ * solver.pose_rows), and the largest residual of those rows at y, scaled
+ * as Newton scales the kept ones (rotation 1, translation 1 / lref):
+ * after a solved point it must be at the Newton tolerance too. */
+int sf_peq_rows_dropped(const sf_equil *q);
+/* The rank of the 6 N fold rows at the generic state (-1 when
+ * solver.pose_rows = "all"); equal to the unknowns q->nq: nothing dropped
+ * (poses_rowsel.h). */
+int sf_peq_rows_rank(const sf_equil *q);
+double sf_peq_dropped_residual(sf_equil *q, const double *y);
 
 /* Used by equilibrium.c when q->pz is set. */
 int sf_peq_residual(sf_equil *q, const double *y, double p, double *F);

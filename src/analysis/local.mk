@@ -3,6 +3,7 @@
 # dynamics, comparison with reference data.
 src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibrium.h \
 	src/analysis/equilibrium_poses.c src/analysis/equilibrium_poses.h \
+	src/analysis/poses_rowsel.c src/analysis/poses_rowsel.h \
 	src/analysis/flatstart.c src/analysis/flatstart.h src/analysis/flatdescend.c \
 	src/analysis/flatcone.c src/analysis/flatcone.h \
 	src/analysis/flatcone_rays.c src/analysis/flatcone_impl.h \

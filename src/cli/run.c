@@ -83,6 +83,10 @@ typedef struct run_ctx {
     int flat_sw;          /* the path started at the flat state, branch_depth >= 1 */
     double flat_p0, flat_dp, flat_p1;
     double *flat_first;   /* the first point of the path off the flat state */
+    /* face poses: the fold rows dropped as dependent (poses_rowsel.h),
+     * checked at every written point */
+    double drop_max;      /* largest scaled residual of a dropped row */
+    long drop_bad;        /* points where it exceeded the Newton tolerance */
 } run_ctx;
 
 static double now(void)
@@ -251,6 +255,15 @@ static int write_point(run_ctx *r, const cont_point *pt)
     const sf_study *s = m->study;
     double Pi, rr, rt;
     sf_equil_report(eq, pt->y, pt->p, &Pi, &rr, &rt);
+    if (eq->pz && sf_peq_rows_dropped(eq)) {
+        double d = sf_peq_dropped_residual(eq, pt->y), tol = s->tolerance > 0 ? s->tolerance : 1e-10;
+        r->drop_max = fmax(r->drop_max, d);
+        if (!(d <= tol) && !r->drop_bad++)
+            branch_note(r, "row %ld (branch %d, p = %.10g): a dropped pose constraint row has "
+                        "residual %.3g, above the Newton tolerance %.3g: the kept rows do not "
+                        "imply it here (docs/formulations.md; solver.pose_rows = \"all\" keeps "
+                        "every row)", r->npoints, r->bif.branch, pt->p, d, tol);
+    }
     double load = eq->param == SF_PARAM_LOAD ? pt->p : eq->load;
     if (r->s_offset < 0) {
         /* first point after a start off the flat state: the arclength
@@ -715,6 +728,18 @@ static int write_outputs(run_ctx *r)
                          "(analysis.eigensolver)\n", r->neig_method[SF_EIG_DENSE],
                          r->neig_method[SF_EIG_ARPACK], r->neig_method[SF_EIG_INERTIA],
                          r->neig_inertia);
+    if (r->eq.pz && sf_peq_rows_dropped(&r->eq))
+        sf_outbuf_printf(&out, "# pose rows: %d of %d fold rows kept, %d dropped as identities "
+                         "(dependent at a generic state, solver.pose_rows); largest residual of a "
+                         "dropped row %.3g over the points written, %ld point%s above the Newton "
+                         "tolerance\n", r->eq.nloop, 6 * r->eq.m->nfolds,
+                         sf_peq_rows_dropped(&r->eq), r->drop_max, r->drop_bad,
+                         r->drop_bad == 1 ? "" : "s");
+    else if (r->eq.pz && sf_peq_rows_rank(&r->eq) >= 0 && sf_peq_rows_rank(&r->eq) < 6 * r->eq.m->nfolds)
+        sf_outbuf_printf(&out, "# pose rows: all %d fold rows kept: at a generic state they have "
+                         "rank %d = the unknowns, so the dependent ones are equations of their own "
+                         "(more rows than unknowns), not identities (docs/formulations.md)\n",
+                         6 * r->eq.m->nfolds, sf_peq_rows_rank(&r->eq));
     if (r->do_stab && r->step_bound)
         sf_outbuf_printf(&out, "# step bound: %ld steps shortened to end between two predicted "
                          "eigenvalue crossings (analysis.step_bound)\n", r->nbound);

@@ -124,6 +124,7 @@ static const sf_study_key schema[] = {
     {"solver.quadrature",          INT,   RANGE, SF_QUADRATURE_MIN, SF_QUADRATURE_MAX, "24",          NULL, "-", "Gauss-Legendre points across a fold"},
     {"solver.tolerance",           NUM,   POS,            0, 0,       "1e-10",       NULL, "-", "Newton tolerance (scaled residual norm)"},
     {"solver.formulation",         STR,   0,              0, 0,       "folds",       "folds|poses", "-", "unknowns: fold coordinates (loops closed by 6 rows per interior vertex) or face poses (6 rows per fold, sparse; exact constraints only), docs/formulations.md"},
+    {"solver.pose_rows",           STR,   0,              0, 0,       "all",         "all|independent", "-", "face poses: keep all 6 N fold rows, or only a maximal independent set found once at a generic state (the dropped rows checked at every point; can follow a spurious branch from the flat state), docs/formulations.md"},
     {"solver.flat_branch",         INT,   SF_KEY_GE,      1, 0,       "1",           NULL, "-", "exact start at the flat state: the stable branch of the tangent cone to follow, by energy (1: lowest), docs/flatstart.md"},
     {"solver.linear_solver",       STR,   0,              0, 0,       "dense",       "dense|sparse|mumps|klu", "-", "Newton systems: dense LU (LAPACK) or sparse LU on the compressed Jacobian: sparse = mumps (MUMPS, METIS ordering) or klu (KLU); the pose formulation is always sparse (MUMPS unless klu)"},
 
