@@ -226,16 +226,16 @@ fi
 # fold angles below 5e-5 rad, the dense method counts constraint rows at
 # its rank cut: Morse index 4, then 1; docs/flatstart.md), and the same
 # state at p = 1 as in fold coordinates.  Not to 1e-9: on the
-# degenerate ray a residual r moves the state by about r / a^2 (a = 4e-4
+# degenerate ray a residual r moves the state by about r / a^2 (a = 2e-4
 # rad the fold angles at p = 1), and the two formulations differ by
-# 5.8e-7 (tip uz), 8e-7 (theta1), 1.3e-6 (energy) at the default
-# tolerance 1e-10 (docs/flatstart.md); asserted to 3e-6
+# 4.1e-7 (tip uz), 9e-7 (theta1), 2.6e-6 (theta13), 7.7e-7 (energy) at
+# the default tolerance 1e-10 (docs/flatstart.md); asserted to 5e-6
 b="$tmp/ml-folds/branch.tsv"; b2="$tmp/ml-poses/branch.tsv"
 if [ "$(cat "$tmp/ml-poses.st")" = 0 ] && miura_small "$b2" 1 &&
    awk -v a="$(col "$b" probe1_uz)" -v b="$(col "$b2" probe1_uz)" -v t="$(col "$b" theta1)" -v s="$(col "$b2" theta1)" \
        -v y="$(col "$b" theta13)" -v z="$(col "$b2" theta13)" -v e="$(col "$b" energy)" -v f="$(col "$b2" energy)" '
        function rel(x, y) { d = (x - y) / x; return d < 0 ? -d : d }
-       BEGIN { exit !(rel(a, b) < 3e-6 && rel(t, s) < 3e-6 && rel(y, z) < 3e-6 && rel(e, f) < 3e-6) }'; then
+       BEGIN { exit !(rel(a, b) < 5e-6 && rel(t, s) < 5e-6 && rel(y, z) < 5e-6 && rel(e, f) < 5e-6) }'; then
     ok "miura 2x2 tip load 0.01 N in poses: p = 1, tip uz $(col "$b2" probe1_uz) m against $(col "$b" probe1_uz) m in fold coordinates"
 else
     nok "miura 2x2 tip load 0.01 N in poses: exit $(cat "$tmp/ml-poses.st")"; sed 's/^/#   /' "$tmp/ml-poses.out" | head -5
