@@ -18,19 +18,21 @@
  * matrix has about twice the nonzeros of the pose Jacobian and is
  * factorised by MUMPS (ldlt.h), which also gives its inertia.
  *
- * eta is a penalty on the second-order rows (nu = their residual / eta):
- * for eta large the solution is the first-order response u (the
- * driving's response on the first-order kernel), and as eta falls
- * (10^2 .. 10^-10 in the scaled units, ten stages) the loops close to
- * second order and x moves onto the tangent cone: the sparse counterpart
- * of the penalty descent of flatcone.c, without the kernel basis.  Newton
- * in every stage with an inertia correction: while the KKT matrix has
- * more negative pivots than constraint rows (2 per row: mu and nu) the
- * penalised energy is not convex on the constraints' tangent space and a
- * shift on the x block makes the step descend; a converged saddle (a
- * symmetric state losing stability as eta falls) is pushed off by a
- * pseudo-random perturbation (fixed seeds).  delta (tiny) selects the
- * minimum-norm z. */
+ * eta is a penalty on the second-order rows (nu = their residual / eta).
+ * Newton starts from the first-order response u (the driving's response
+ * on the first-order kernel, with the declared imperfection of the mode
+ * amplitudes) directly at eta = 1e-8, then 1e-9 and 1e-12 (scaled): a
+ * homotopy from eta = 1e2 down (the sparse counterpart of the penalty
+ * descent of flatcone.c) was measured and ends at a locked state on the
+ * 3x3 Miura sheet (docs/flatstart.md).  Newton has an inertia
+ * correction: while the KKT matrix has more negative pivots than
+ * constraint rows (2 per row: mu and nu) the energy is not convex on the
+ * constraints' tangent space and a shift on the x block makes the step
+ * descend; a converged saddle is pushed off by a pseudo-random
+ * perturbation (fixed seeds).  delta (tiny) selects the minimum-norm z.
+ * A second start, the solution with its mode amplitudes negated, tells
+ * a symmetric start (a distinct solution of equal energy) from a
+ * selected one. */
 #include "flatlimit_sparse.h"
 
 #include <math.h>
@@ -57,7 +59,7 @@ typedef struct lim_ws {
     int *r, *c;
     long *src;        /* >= 0 Jacobian entry; -1 diag of x/mu; -2 diag of z/nu; -3 [Gx] */
     double *a, *d, *gx, *qr, *ybuf, *b, *R;
-    double *work, *dg, *Hl, *lam;
+    double *work, *dg, *Hl;
     int *col;
     double *hc;       /* the rows' Hessians at the flat state (gx_rows) */
     int hc_filled;
@@ -398,7 +400,7 @@ static int lw_energy(lim_ws *L, const double *x, double *E, sf_error *err)
     return SF_OK;
 }
 
-/* The homotopy from the start in w (x, mu; z = nu = 0). */
+/* The stages in eta from the start in w (x, mu; z = nu = 0). */
 static int lw_solve(lim_ws *L, double *w, double tol, sf_flatlimit_info *info, sf_error *err)
 {
     double eta = ETA0, res = INFINITY;

@@ -9,9 +9,10 @@
  * (H0 the bending Hessian, b = dF/dp, J and G_r the gradients and
  * Hessians of the constraint rows, all at the flat state): the
  * stationarity of x^T H0 x / 2 + b . x on the tangent cone of the
- * constraints.  The driving's branch is a local minimum of it, reached
- * by a penalty homotopy on the second-order rows from the first-order
- * response. */
+ * constraints.  The driving's branch is a local minimum of it; Newton
+ * (with an inertia correction) reaches one from the first-order response.
+ * Which one: the nearest, not necessarily the lowest (docs/flatstart.md,
+ * the 4x4 Miura sheet). */
 #ifndef SF_FLATLIMIT_SPARSE_H
 #define SF_FLATLIMIT_SPARSE_H
 
@@ -25,7 +26,7 @@ typedef struct sf_flatlimit_info {
     int ties;           /* 1: the mirror start gave another state of equal energy */
     double energy;      /* x^T H0 x / 2 + b . x (J per unit p^2) */
     double energy_alt;  /* the same for the other start (ties test), NAN if none */
-    double xdiff;       /* max |x - x_alt| over the fold angles, relative */
+    double xdiff;       /* max |x - x_alt| over the fold coordinates, relative */
     double residual;    /* final scaled residual */
     int factorisations;  /* MUMPS LDL^T factorisations, all starts */
     int starts, converged;  /* candidate starts tried, converged */
@@ -38,8 +39,10 @@ typedef struct sf_flatlimit_info {
  * (coordinates, then constraint rows).  imperf: the declared imperfection
  * of the mode amplitudes (every shape-mode amplitude of the start moved
  * by imperf times the largest fold angle of u; 0 for none); when mirror
- * is set the start with -imperf is also solved and compared (info->ties,
- * energy_alt).  SF_OK, SF_ENUMERIC (no convergence, with the numbers),
+ * is set, the solution with its mode amplitudes negated is solved from
+ * too: a distinct solution of equal energy sets info->ties (the one
+ * whose mode amplitudes sum to the sign of imperf is kept), a lower one
+ * replaces the first.  SF_OK, SF_ENUMERIC (no convergence, with the numbers),
  * SF_ENOMEM. */
 int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double *u, double imperf,
                          int mirror, double *w, sf_flatlimit_info *info, sf_error *err);
