@@ -362,12 +362,19 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
         snprintf(why, sizeof why, "the corrector went back to the flat state");
     }
     if (halvings > 4) {
+        char lim_why[300];
+        if (lim)
+            snprintf(lim_why, sizeof lim_why, "along the limit problem's solution (%d Newton "
+                     "iterations, limit energy %.6g)", li.iterations, li.energy);
+        else
+            snprintf(lim_why, sizeof lim_why, "along the first-order response: the sparse limit "
+                     "problem failed (%.200s)", lerr.msg);
         rc = sf_fail(err, SF_ENUMERIC, "%s: flat start (sparse): no equilibrium found off the flat "
-                     "state along the driving (first step %.3g rad on the largest fold angle, "
+                     "state %s (first step %.3g rad on the largest fold angle, "
                      "halved 4 times; last: %s); try a smaller analysis.flat_angle, "
                      "analysis.flat_start = \"limit\" (dense tangent-cone analysis, small "
                      "sheets), or a driving that selects a branch (folds[].assignment, a load)",
-                     path, angle, why);
+                     path, lim_why, angle, why);
         goto out;
     }
     const cont_point *pt = cont_get_point(cs);
