@@ -16,6 +16,14 @@
 
 static void sf_equil_scales(sf_equil *q);
 
+double sf_equil_reg_eps(const sf_equil *q, const double *y)
+{
+    if (!(q->reg_rel > 0)) return REG_EPS;
+    double a = 0.0;
+    for (int j = 0; j < q->m->nq; j++) a = fmax(a, fabs(y[j]));
+    return fmin(REG_EPS, fmax(q->reg_min, q->reg_rel * a * a));
+}
+
 int sf_equil_init(sf_equil *q, const sf_model *m, int param, int group, int probe,
                   int component, double load, sf_error *err)
 {
@@ -305,10 +313,11 @@ int sf_equil_jacobian(const double *y, double p, SUNMatrix Jy, double *Fp, void 
             A[(size_t)j * ld + nq + row] = d[j];
         }
     }
+    double eps = sf_equil_reg_eps(q, y);
     for (int r = 0; r < q->ncon; r++) {
         /* regularisation of the multiplier block: -eps in the solver's
          * scaled system (fscale A / yscale), so -eps yscale / fscale here */
-        A[(size_t)(nq + r) * ld + nq + r] = -REG_EPS * q->yscale[nq + r] / q->fscale[nq + r];
+        A[(size_t)(nq + r) * ld + nq + r] = -eps * q->yscale[nq + r] / q->fscale[nq + r];
     }
     memset(Fp, 0, sizeof(double) * n);
     memcpy(Fp, q->gp, sizeof(double) * nq);

@@ -48,6 +48,7 @@ typedef struct sf_equil {
     double *rowval;
     int disp_row;         /* index among the support rows, -1 if none */
     double kref, lref;    /* reference stiffness [J] and length [m] */
+    double reg_rel, reg_min;  /* sf_equil_reg_eps; 0: the fixed eps */
     double *yscale, *fscale;
     /* scratch */
     double *grad, *H, *gp, *g, *J, *dx;
@@ -121,6 +122,15 @@ int sf_equil_start_off_flat(sf_equil *q, double p1, double tol, double *y, sf_er
  * corner where the continuation may step past the stage's end. */
 void sf_equil_set_param(sf_equil *q, double p);
 
+/* The regularisation eps of the multiplier block (in the scaled system)
+ * at the state y: 1e-10, or with q->reg_rel > 0, reg_rel a^2 with a the
+ * largest fold coordinate (the first m->nq values of y), between
+ * q->reg_min and 1e-10.  Near the flat state the gradients of the
+ * second-order loop rows are of the order of a, and a fixed eps swamps
+ * them: the flat start sets reg_rel on a degenerate ray of the tangent
+ * cone (flatstart.h, docs/flatstart.md "Small motions on a degenerate
+ * ray"). */
+double sf_equil_reg_eps(const sf_equil *q, const double *y);
 /* Callbacks for cont_problem (user = sf_equil *). */
 int sf_equil_residual(const double *y, double p, double *F, void *user);
 int sf_equil_jacobian(const double *y, double p, SUNMatrix Jy, double *Fp, void *user);

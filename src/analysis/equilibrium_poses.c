@@ -16,7 +16,6 @@
 #include "shape.h"
 #include "study.h"
 
-#define REG_EPS 1e-10
 /* the generic state of the row selection and the QR's rank tolerance
  * (relative to the longest scaled row; docs/formulations.md) */
 #define ROWSEL_SEED 20261123u
@@ -192,9 +191,11 @@ static double assemble(sf_equil *q, const double *y, double p, double *F, int ja
         if (jac) add_block(z, nv);
     }
     if (Fp && q->disp_row >= 0) Fp[nx + q->nloop + q->disp_row] = -1.0;
-    if (jac)
+    if (jac) {
+        double eps = sf_equil_reg_eps(q, y);   /* 1e-10 unless a flat start set reg_rel */
         for (int r = 0; r < q->ncon; r++)
-            sf_trip_add(&z->T, nx + r, nx + r, -REG_EPS * q->yscale[nx + r] / q->fscale[nx + r]);
+            sf_trip_add(&z->T, nx + r, nx + r, -eps * q->yscale[nx + r] / q->fscale[nx + r]);
+    }
     return Pi;
 }
 
@@ -578,7 +579,12 @@ int sf_equil_poses_start_flat(sf_equil *q, cont_solver *cs, double p0, double p1
     char why[1100] = "";
     int ok = 0;
     /* the limit of the branch (flatstart.c), in fold coordinates */
-    if (sf_equil_start_limit(&f, p0, p1, yf, NULL, &lerr) == SF_OK) {
+    sf_flatstart_info fi;
+    if (sf_equil_start_limit(&f, p0, p1, yf, &fi, &lerr) == SF_OK) {
+        if (fi.degenerate) {   /* flatstart.h */
+            q->reg_rel = SF_FLAT_REG_REL_POSES;
+            q->reg_min = SF_FLAT_REG_MIN_POSES;
+        }
         memset(y, 0, sizeof(double) * (size_t)q->n);
         memcpy(y, yf, sizeof(double) * (size_t)m->nq);
         sf_equil_poses_lift(q, y);
@@ -586,6 +592,17 @@ int sf_equil_poses_start_flat(sf_equil *q, cont_solver *cs, double p0, double p1
         if (!ok) snprintf(why, sizeof why, "%s", cont_errmsg(cs));
     } else {
         snprintf(why, sizeof why, "%s", lerr.msg);
+    }
+    if (!ok && sf_equil_start_flat_solved(&f, p0, p1, dir, tol, yf, &lerr) == SF_OK) {
+        /* the fold formulation's start, converged (its multipliers are of
+         * no use here): from an exact equilibrium, Newton's first step
+         * gives the poses' multipliers */
+        memset(y, 0, sizeof(double) * (size_t)q->n);
+        memcpy(y, yf, sizeof(double) * (size_t)m->nq);
+        sf_equil_poses_lift(q, y);
+        ok = cont_start(cs, y, p1, dir) == CONT_OK;
+        if (!ok) snprintf(why + strlen(why), sizeof why - strlen(why),
+                          "; from the converged fold start: %s", cont_errmsg(cs));
     }
     if (!ok) {
         /* the penalty homotopy as the fallback */

@@ -571,6 +571,7 @@ static int cone_start(sf_equil *q, const sf_limit *L, int pick, double *z, doubl
                  "tangent cone of the flat state (%d cone points found)", C.k, C.ncone);
     } else if (ns == 0) {
         chosen = 0;
+        if (info) info->unstable = 1;
         int lower = 0;
         double emin = C.energy[0];
         for (int i = 0; i < C.ndeg; i++)
@@ -704,13 +705,24 @@ int sf_equil_start_flat(sf_equil *q, struct cont_solver *cs, double p0, double p
 {
     sf_error lerr;
     sf_error_clear(&lerr);
+    sf_flatstart_info own;
+    if (!info) info = &own;
     int rc = sf_equil_start_limit_branch(q, p0, p1, branch, y, info, &lerr);
     if (rc == SF_EINPUT && lerr.code == SF_EINPUT && strstr(lerr.msg, "solver.flat_branch"))
         return sf_fail(err, rc, "%s", lerr.msg);
-    if (rc == SF_OK && cont_start(cs, y, p1, dir) == CONT_OK) return SF_OK;
+    if (rc == SF_OK && info->degenerate) {
+        /* motions of the order of the Newton tolerance's square root:
+         * the KKT regularisation relative to them (equilibrium.h) */
+        q->reg_rel = SF_FLAT_REG_REL;
+        q->reg_min = SF_FLAT_REG_MIN;
+    }
+    if (rc == SF_OK && cont_start(cs, y, p1, dir) == CONT_OK) {
+        if (!info->unstable || q->pz) return SF_OK;
+        return sf_flat_start_descend(q, cs, p1, dir, tol, y, branch, info, err);
+    }
     /* the penalty homotopy (sf_equil_start_off_flat) as the fallback */
     char why[2000];
-    if (rc == SF_OK && info && info->degenerate)
+    if (rc == SF_OK && info->degenerate)
         snprintf(why, sizeof why, "%s; on it the fold coordinates at p = %g are about %.2g, "
                  "so the second-order loop terms (about %.2g) that this branch turns on are "
                  "at the level of the Newton tolerance %g: %s", info->note, p1, info->amplitude,
@@ -727,4 +739,19 @@ int sf_equil_start_flat(sf_equil *q, struct cont_solver *cs, double p0, double p
                        "(limit start: %s; from the penalty start: %s)", q->m->study->path, p1,
                        why, cont_errmsg(cs));
     return SF_OK;
+}
+
+int sf_equil_start_flat_solved(sf_equil *q, double p0, double p1, int dir, double tol, double *y,
+                               sf_error *err)
+{
+    cont_solver *cs = NULL;
+    if (sf_equil_create_solver(q, &cs) != CONT_OK) {
+        if (cs) cont_free(cs);
+        return sf_fail(err, SF_ENOMEM, "continuation: cannot create the start solver");
+    }
+    cont_set_newton(cs, tol, 12, 0);
+    int rc = sf_equil_start_flat(q, cs, p0, p1, dir, tol, y, 1, NULL, err);
+    if (rc == SF_OK) memcpy(y, cont_get_point(cs)->y, sizeof(double) * (size_t)q->n);
+    cont_free(cs);
+    return rc;
 }

@@ -60,8 +60,11 @@ typedef struct sf_flatstart_info {
     int ties;                /* of them, sharing the lowest energy */
     int chosen;              /* the one followed (1-based), 0: none */
     int degenerate;          /* 1: the start is on a degenerate ray (flatcone.h) */
+    int unstable;            /* 1: branches on the cone, none of them stable */
+    int descended;           /* stable states found next to the unstable first
+                                point (sf_flat_descend), 0: none tried/found */
     double amplitude;        /* max |fold coordinate| of the guess at p1 */
-    char note[600];          /* what was found and chosen, for the output */
+    char note[1000];         /* what was found and chosen, for the output */
 } sf_flatstart_info;
 
 /* Guess y (q->n values) of the exact problem at p1 near the flat state,
@@ -87,7 +90,57 @@ int sf_equil_start_limit_branch(sf_equil *q, double p0, double p1, int branch, d
  * reasons.  branch and info (may be NULL) as for
  * sf_equil_start_limit_branch. */
 struct cont_solver;
+/* On a degenerate ray (info->degenerate) sf_equil_start_flat also sets
+ * q->reg_rel = SF_FLAT_REG_REL, q->reg_min = SF_FLAT_REG_MIN for the whole
+ * path: the KKT regularisation relative to the squared motion
+ * (sf_equil_reg_eps, equilibrium.h); the pose formulation's start
+ * (equilibrium_poses.c) the SF_FLAT_REG_*_POSES pair.  Measured on the
+ * 2x2 Miura sheet under tip loads of 0.01 to 1 N (docs/flatstart.md). */
+#define SF_FLAT_REG_REL 2e-5
+#define SF_FLAT_REG_MIN 1e-14
+#define SF_FLAT_REG_REL_POSES 2e-7
+#define SF_FLAT_REG_MIN_POSES 1e-16
 int sf_equil_start_flat(sf_equil *q, struct cont_solver *cs, double p0, double p1, int dir,
                         double tol, double *y, int branch, sf_flatstart_info *info, sf_error *err);
+
+/* The start of sf_equil_start_flat (branch 1) solved to the tolerance tol
+ * with a solver of its own: y (q->n values) receives the converged state
+ * at p1.  For starting another formulation of the same problem from a
+ * converged state (equilibrium_poses.c).  SF_OK or the error. */
+int sf_equil_start_flat_solved(sf_equil *q, double p0, double p1, int dir, double tol, double *y,
+                               sf_error *err);
+
+/* The stable states next to an unstable first point y at p1 (fold
+ * coordinates; flatdescend.c): Newton at fixed p1 with cs (a solver of
+ * its own: its current point changes) from y pushed
+ * either way along the direction of negative curvature of the reduced
+ * Hessian.  At most two, lowest energy first; ties = 1 when their
+ * energies are equal to 1e-7 (mirror images: the driving selects neither). */
+typedef struct sf_flat_descent {
+    int saddle_morse;        /* Morse index at y */
+    double saddle_eig;       /* its lowest reduced eigenvalue */
+    double saddle_energy;    /* its energy [J] */
+    double dist[2];          /* max |fold coordinate - the saddle's| */
+    int returned;            /* pushes after which Newton came back to the saddle */
+    double push, back;       /* largest push [rad], farthest such return */
+    double sv_cut;           /* smallest relative singular value of the rows
+                                counted as constraints at the saddle */
+    int nfound;              /* stable states found (0..2) */
+    int ties;
+    double *y;               /* nfound x q->n states (malloc'd) */
+    double energy[2], eig[2];   /* energy [J], lowest reduced eigenvalue */
+} sf_flat_descent;
+int sf_flat_descend(sf_equil *q, struct cont_solver *cs, double p1, const double *y,
+                    sf_flat_descent *out);
+void sf_flat_descent_free(sf_flat_descent *d);
+/* sf_equil_start_flat's last step when every branch of the cone is
+ * unstable (info->unstable): cs's current point is unstable; the
+ * branch-th stable state next to it by energy (sf_flat_descend) replaces
+ * it (y receives it), and info->note says what was found, or why none
+ * was (pushes that Newton brings back to the saddle: its negative
+ * curvature lies where constraint rows of tiny gradient block it).  None
+ * found: the unstable start stands, SF_OK. */
+int sf_flat_start_descend(sf_equil *q, struct cont_solver *cs, double p1, int dir, double tol,
+                          double *y, int branch, sf_flatstart_info *info, sf_error *err);
 
 #endif

@@ -4,7 +4,7 @@
 src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibrium.h \
 	src/analysis/equilibrium_poses.c src/analysis/equilibrium_poses.h \
 	src/analysis/poses_rowsel.c src/analysis/poses_rowsel.h \
-	src/analysis/flatstart.c src/analysis/flatstart.h \
+	src/analysis/flatstart.c src/analysis/flatstart.h src/analysis/flatdescend.c \
 	src/analysis/flatcone.c src/analysis/flatcone.h \
 	src/analysis/flatcone_rays.c src/analysis/flatcone_impl.h \
 	src/analysis/flatstart_sparse.c src/analysis/flatstart_sparse.h \
