@@ -5,7 +5,9 @@
 # dense method (explicit tangent basis, all eigenvalues, the Morse index
 # counted from them), on the same paths: square4, snap1 and fold1-buckle
 # (with unstable stretches) and Miura-ori 2x2 and 3x3 cells under
-# actuation (3x3: poses only, for time), in both formulations, and square4-inplane (Morse index up to
+# actuation (3x3: poses only, for time), in both formulations, Miura 2x2
+# with K = 2 in poses with the redundant rows dropped (solver.pose_rows =
+# "independent"), and square4-inplane (Morse index up to
 # several, fold formulation only: in-plane modes).  The step bound is off
 # so that both methods follow the same steps; rows are matched by branch
 # and p, located special points left out (their p comes from the
@@ -19,6 +21,10 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 sh "$src/bench/miura-study.sh" 2 actuation > "$tmp/miura2a.cfg"
 sh "$src/bench/miura-study.sh" 3 actuation > "$tmp/miura3a.cfg"
+# K = 2 with the identities among the fold rows dropped (solver.pose_rows =
+# "independent", docs/formulations.md)
+sh "$src/bench/miura-study.sh" 2 actuation 2 |
+    sed 's/^solver = {/solver = { pose_rows = "independent";/' > "$tmp/miura2k2.cfg"
 # study formulation max_steps least-rows least-unstable
 cases="
 $src/studies/square4.cfg folds 30 25 0
@@ -31,6 +37,7 @@ $src/studies/square4-inplane.cfg folds 25 100 60
 $tmp/miura2a.cfg folds 20 15 0
 $tmp/miura2a.cfg poses 20 15 0
 $tmp/miura3a.cfg poses 10 8 0
+$tmp/miura2k2.cfg poses 20 15 0
 "
 echo "1..$(printf '%s\n' "$cases" | grep -c .)"
 n=0
