@@ -393,9 +393,10 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
         char lnote[400];
         if (lim && li.ties)
             snprintf(lnote, sizeof lnote, "the driving selects no single branch: the limit "
-                     "problem's two starts (mode imperfection -/+1e-2) end on states of equal "
-                     "energy %.9g (a symmetric start); following the one of the declared "
-                     "imperfection -1e-2", li.energy);
+                     "problem from the first-order response and from its solution with the mode "
+                     "amplitudes negated ends on two states of equal energy %.9g (a symmetric "
+                     "start); following the one whose mode amplitudes sum to the sign of the "
+                     "declared imperfection -1e-2", li.energy);
         else if (lim)
             snprintf(lnote, sizeof lnote, "the driving's branch from the sparse limit problem "
                      "(%d starts, %d Newton iterations, %d MUMPS factorisations, %d saddles left; "
