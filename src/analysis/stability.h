@@ -41,12 +41,14 @@
 #include "sstab.h"
 
 enum { SF_EIG_AUTO = 0, SF_EIG_DENSE = 1, SF_EIG_ARPACK = 2, SF_EIG_INERTIA = 3 };
-/* Dense up to 1000 coordinates: on Miura-ori sheets (penalty closure, the
- * whole space free, bench/stability-sparse.sh) the dense method costs
- * 0.1 s per point at 528 coordinates and 0.55 s at 960, while MUMPS +
- * ARPACK took minutes there: their smallest eigenvalue is a cluster of
- * hundreds of copies, which Lanczos resolves slowly. */
-#define SF_EIG_DENSE_MAX 1000
+/* Dense up to 200 coordinates, the MUMPS inertia above.  Miura-ori
+ * actuation paths in poses with exact closure (docs/stability.md, "Where
+ * auto switches"): the dense method costs 2 ms per point at 138
+ * coordinates, 50 ms at 330 and 1.6 s at 954, the inertia 5.5 ms at 330
+ * and 45 ms at 954, with the same stable and morse columns.  ARPACK is
+ * never the automatic choice: the smallest eigenvalue of these sheets is
+ * a cluster of hundreds of copies, which Lanczos resolves slowly. */
+#define SF_EIG_DENSE_MAX 200
 
 typedef struct sf_stab_result {
     int method;        /* SF_EIG_DENSE or SF_EIG_ARPACK (the one used) */
