@@ -501,6 +501,105 @@ static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, d
     return sf_bif_switch(&r->bif, cs, err);
 }
 
+/* analysis.stability and its keys: the eigensolver of each point, the
+ * branch bookkeeping (bifurcation.h) and, through *depth, how deep
+ * branches are switched.  After the equilibrium problem is set up. */
+static int setup_stability(run_ctx *r, int *depth)
+{
+    sf_scene *sc = r->sc;
+    const sf_study *s = &sc->study;
+    sf_error *err = r->err;
+    sf_equil *eq = &r->eq;
+    int stab_on = 1, nev = 4;
+    *depth = 0;
+    const char *eigsolver = "auto";
+    if (sf_study_bool(s, "analysis.stability", 1, &stab_on, err) ||
+        sf_study_int(s, "analysis.eigenvalues", 4, &nev, err) ||
+        sf_study_int(s, "analysis.branch_depth", 0, depth, err) ||
+        sf_study_string(s, "analysis.eigensolver", "auto", &eigsolver, err) ||
+        sf_study_bool(s, "analysis.step_bound", 1, &r->step_bound, err))
+        return err->code;
+    if (stab_on && nev > sc->model.nq) {
+        /* bounded by the problem: no more eigenvalues exist than coordinates */
+        sf_outbuf_printf(&r->header, "# note: analysis.eigenvalues = %d, but the sheet has %d "
+                         "generalised coordinates: %d reported\n", nev, sc->model.nq, sc->model.nq);
+        nev = sc->model.nq;
+    }
+    r->do_stab = stab_on;
+    r->nev = stab_on ? nev : 0;
+    sf_bif_hooks hooks = {r, on_note, on_located, on_branch, on_failed};
+    sf_bif_init(&r->bif, &r->eq, r->do_stab ? &r->stab : NULL,
+                s->tolerance > 0 ? s->tolerance : 1e-10, *depth, &r->npoints, &hooks);
+    if (r->do_stab) {
+        int meth = strcmp(eigsolver, "dense") == 0 ? SF_EIG_DENSE
+                 : strcmp(eigsolver, "arpack") == 0  ? SF_EIG_ARPACK
+                 : strcmp(eigsolver, "inertia") == 0 ? SF_EIG_INERTIA
+                                                     : SF_EIG_AUTO;
+        if (sf_stab_init(&r->stab, eq, meth, nev > 0 ? nev : 1, err)) return err->code;
+        if (r->step_bound && sf_stab_init(&r->stab2, eq, meth, nev > 0 ? nev : 1, err)) {
+            r->step_bound = 0;
+            return err->code;
+        }
+        if (sf_study_int(s, "analysis.arpack_maxiter", 1000, &r->stab.arpack_maxiter, err) ||
+            sf_study_int(s, "analysis.arpack_attempts", 4, &r->stab.arpack_attempts, err))
+            return err->code;
+    }
+    return SF_OK;
+}
+
+/* The path starts at the flat state of a sheet with loops: write that
+ * point, then find the first point off it (flatstart.h, the pose and
+ * sparse variants).  0: the engine holds the first point, *ret = CONT_OK;
+ * 1: stop with *ret. */
+static int start_at_flat(run_ctx *r, double *y0, double start, double end, double step,
+                         int dir, int depth, int sparse, double flat_angle, int *ret)
+{
+    const sf_study *s = &r->sc->study;
+    sf_error *err = r->err;
+    sf_equil *eq = &r->eq;
+    cont_solver *cs = r->solver;
+    int rc;
+    /* The flat state solves the exact problem at the start, but it is a
+     * singular point of loop closure (multipliers of the second-order
+     * rows are undetermined there).  Report it, then start the branch
+     * one step further from the limit of the branch at the flat state
+     * (src/analysis/flatstart.c; the penalty homotopy as the fallback). */
+    cont_point p0;
+    memset(&p0, 0, sizeof p0);
+    p0.y = y0;
+    p0.p = start;
+    on_point(&p0, r);
+    if (r->failed) return *ret = err->code, 1;
+    double p1 = start + dir * fmin(step, 0.25 * fabs(end - start));
+    if (r->seg_end != end) p1 = start + dir * fmin(fabs(p1 - start), 0.25 * fabs(r->seg_end - start));
+    r->s_offset = -1.0;   /* set from the first point (on_point) */
+    double tol = s->tolerance > 0 ? s->tolerance : 1e-10;
+    sf_flatstart_info fi;
+    memset(&fi, 0, sizeof fi);
+    int fb = 1;
+    if (sf_study_int(s, "solver.flat_branch", 1, &fb, err)) return *ret = err->code, 1;
+    if (sparse)
+        rc = sf_equil_poses_start_sparse(eq, cs, y0, start, 0.5 * fabs(r->seg_end - start), dir,
+                                         flat_angle, tol, y0, &fi, err);
+    else
+        rc = eq->pz ? sf_equil_poses_start_flat(eq, cs, start, p1, dir, tol, y0, err)
+                    : sf_equil_start_flat(eq, cs, start, p1, dir, tol, y0, fb, &fi, err);
+    if (fi.note[0]) branch_note(r, "%s", fi.note);
+    if (rc) return *ret = explain_start_failure(r), 1;
+    if (depth >= 1 && !eq->pz && !r->failed) {
+        /* every branch of the flat state, after the path (flat_switch) */
+        r->flat_first = malloc(sizeof(double) * (size_t)eq->n);
+        if (!r->flat_first) return *ret = sf_fail(err, SF_ENOMEM, "out of memory"), 1;
+        memcpy(r->flat_first, cont_get_point(cs)->y, sizeof(double) * (size_t)eq->n);
+        r->flat_sw = 1;
+        r->flat_p0 = start;
+        r->flat_p1 = cont_get_point(cs)->p;
+        r->flat_dp = p1 - start;
+    }
+    *ret = CONT_OK;
+    return 0;
+}
+
 static int run_equilibrium(run_ctx *r)
 {
     sf_scene *sc = r->sc;
@@ -516,25 +615,6 @@ static int run_equilibrium(run_ctx *r)
         sf_study_int(s, "analysis.max_steps", 500, &max_steps, err) ||
         sf_study_double(s, "analysis.load", 0.0, &load, err))
         return err->code;
-    int stab_on = 1, nev = 4, depth = 0;
-    const char *eigsolver = "auto";
-    if (sf_study_bool(s, "analysis.stability", 1, &stab_on, err) ||
-        sf_study_int(s, "analysis.eigenvalues", 4, &nev, err) ||
-        sf_study_int(s, "analysis.branch_depth", 0, &depth, err) ||
-        sf_study_string(s, "analysis.eigensolver", "auto", &eigsolver, err) ||
-        sf_study_bool(s, "analysis.step_bound", 1, &r->step_bound, err))
-        return err->code;
-    if (stab_on && nev > sc->model.nq) {
-        /* bounded by the problem: no more eigenvalues exist than coordinates */
-        sf_outbuf_printf(&r->header, "# note: analysis.eigenvalues = %d, but the sheet has %d "
-                         "generalised coordinates: %d reported\n", nev, sc->model.nq, sc->model.nq);
-        nev = sc->model.nq;
-    }
-    r->do_stab = stab_on;
-    r->nev = stab_on ? nev : 0;
-    sf_bif_hooks hooks = {r, on_note, on_located, on_branch, on_failed};
-    sf_bif_init(&r->bif, &r->eq, r->do_stab ? &r->stab : NULL,
-                s->tolerance > 0 ? s->tolerance : 1e-10, depth, &r->npoints, &hooks);
     int ptype, gi, pi, ci;
     if (sf_equil_parse_param(s, &ptype, &gi, &pi, &ci, err)) return err->code;
     if (sf_equil_init(&r->eq, &sc->model, ptype, gi, pi, ci, load, err))
@@ -558,20 +638,8 @@ static int run_equilibrium(run_ctx *r)
             sf_error_prefix(err, "%s:%d: probe %d", s->path, s->probes[i].line, i + 1);
             return err->code;
         }
-    if (r->do_stab) {
-        int meth = strcmp(eigsolver, "dense") == 0 ? SF_EIG_DENSE
-                 : strcmp(eigsolver, "arpack") == 0  ? SF_EIG_ARPACK
-                 : strcmp(eigsolver, "inertia") == 0 ? SF_EIG_INERTIA
-                                                     : SF_EIG_AUTO;
-        if (sf_stab_init(&r->stab, eq, meth, nev > 0 ? nev : 1, err)) return err->code;
-        if (r->step_bound && sf_stab_init(&r->stab2, eq, meth, nev > 0 ? nev : 1, err)) {
-            r->step_bound = 0;
-            return err->code;
-        }
-        if (sf_study_int(s, "analysis.arpack_maxiter", 1000, &r->stab.arpack_maxiter, err) ||
-            sf_study_int(s, "analysis.arpack_attempts", 4, &r->stab.arpack_attempts, err))
-            return err->code;
-    }
+    int depth = 0;
+    if (setup_stability(r, &depth)) return err->code;
     /* the continuation engine sees only this problem */
     if (sf_equil_create_solver(eq, &r->solver) != CONT_OK)
         return sf_fail(err, SF_ENOMEM, "continuation: %s",
@@ -649,48 +717,9 @@ static int run_equilibrium(run_ctx *r)
     int direct = strcmp(flat_start, "direct") == 0;
     int sparse = strcmp(flat_start, "sparse") == 0;   /* flatstart_sparse.h */
     if (!direct && (eq->pz ? sc->topo.nivertices > 0 : eq->nloop > 0) && F0norm <= flat_tol) {
-        /* The flat state solves the exact problem at the start, but it is a
-         * singular point of loop closure (multipliers of the second-order
-         * rows are undetermined there).  Report it, then start the branch
-         * one step further from the limit of the branch at the flat state
-         * (src/analysis/flatstart.c; the penalty homotopy as the fallback). */
-        cont_point p0;
-        memset(&p0, 0, sizeof p0);
-        p0.y = y0;
-        p0.p = start;
-        on_point(&p0, r);
-        if (r->failed) { free(y0); return err->code; }
-        double p1 = start + dir * fmin(step, 0.25 * fabs(end - start));
-        if (r->seg_end != end) p1 = start + dir * fmin(fabs(p1 - start), 0.25 * fabs(r->seg_end - start));
-        r->s_offset = -1.0;   /* set from the first point (on_point) */
-        double tol = s->tolerance > 0 ? s->tolerance : 1e-10;
-        sf_flatstart_info fi;
-        memset(&fi, 0, sizeof fi);
-        int fb = 1;
-        if (sf_study_int(s, "solver.flat_branch", 1, &fb, err)) {
+        if (start_at_flat(r, y0, start, end, step, dir, depth, sparse, flat_angle, &rc)) {
             free(y0);
-            return err->code;
-        }
-        if (sparse)
-            rc = sf_equil_poses_start_sparse(eq, cs, y0, start, 0.5 * fabs(r->seg_end - start), dir,
-                                             flat_angle, tol, y0, &fi, err);
-        else
-            rc = eq->pz ? sf_equil_poses_start_flat(eq, cs, start, p1, dir, tol, y0, err)
-                        : sf_equil_start_flat(eq, cs, start, p1, dir, tol, y0, fb, &fi, err);
-        if (fi.note[0]) branch_note(r, "%s", fi.note);
-        if (rc) {
-            free(y0);
-            return explain_start_failure(r);
-        }
-        if (depth >= 1 && !eq->pz && !r->failed) {
-            /* every branch of the flat state, after the path (flat_switch) */
-            r->flat_first = malloc(sizeof(double) * (size_t)eq->n);
-            if (!r->flat_first) { free(y0); return sf_fail(err, SF_ENOMEM, "out of memory"); }
-            memcpy(r->flat_first, cont_get_point(cs)->y, sizeof(double) * (size_t)eq->n);
-            r->flat_sw = 1;
-            r->flat_p0 = start;
-            r->flat_p1 = cont_get_point(cs)->p;
-            r->flat_dp = p1 - start;
+            return rc;
         }
         rc = CONT_OK;
     } else {
