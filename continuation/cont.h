@@ -229,6 +229,17 @@ typedef int (*cont_residual_fn)(const double *y, double p, double *F,
 typedef int (*cont_jacobian_fn)(const double *y, double p, SUNMatrix Jy,
                                 double *Fp, void *user);
 
+/* Optional proximal anchor, for problems whose Jacobian carries a
+ * regularisation -eps D on some unknowns (e.g. the multipliers of nearly
+ * dependent constraints) that F itself does not: on = 1 makes F include
+ * -eps D (y - ya) on those rows, anchored at ya = y (the given state), so
+ * that the regularised Jacobian is F's exact Jacobian; on = 0 (y NULL)
+ * restores the plain F.  The corrector uses it only to retry an attempt
+ * that stagnated at a residual floor near the tolerance, from the
+ * stagnated iterate, and keeps the result only if the plain F then meets
+ * the tolerance.  Return 0 on success. */
+typedef int (*cont_anchor_fn)(const double *y, double p, int on, void *user);
+
 /* Optional user test functions: out[k], k < ntest, at the point (y, p) with
  * unit tangent (ty, tp).  A zero between consecutive points is located and
  * reported as a special point.  Return 0 on success (nonzero stops the run
@@ -252,6 +263,7 @@ typedef struct cont_problem {
     const double *yscale;
     double pscale;
     const double *fscale;
+    cont_anchor_fn anchor;        /* optional (NULL: none) */
     void *user;                   /* passed to every callback */
 } cont_problem;
 

@@ -101,6 +101,39 @@ static int polish(cont_solver *s, double *u, int *iters)
     return -1;
 }
 
+/* The retry of a stagnated attempt with the problem's proximal anchor
+ * (cont_anchor_fn) at KINSOL's last iterate u: Newton on the anchored F,
+ * whose Jacobian is the regularised one, so it converges where the plain
+ * F stagnates at a floor.  Kept only if the plain residual then meets
+ * ftol.  0 ok (u updated), -1 not. */
+static int anchored_retry(cont_solver *s, int maxit, int strategy, int *nit)
+{
+    long n = s->n, m = s->m;
+    double *u = N_VGetArrayPointer(s->u);
+    if (!ci_all_finite(u, m)) return -1;
+    memcpy(s->w1, u, (size_t)m * sizeof(double));
+    if (s->prob.anchor(u, u[n], 1, s->prob.user) != 0) return -1;
+    KINSetNumMaxIters(s->kmem, maxit);
+    int flag = KINSol(s->kmem, s->u, strategy, s->uscale, s->fscale);
+    s->prob.anchor(NULL, 0.0, 0, s->prob.user);
+    long nni = 0;
+    KINGetNumNonlinSolvIters(s->kmem, &nni);
+    s->stp.newton_iters += nni;
+    s->stp.nlinsolve += nni;
+    if (nit) *nit += (int)nni;
+    double fs = INFINITY;
+    double *f = malloc((size_t)n * sizeof(double));
+    if (f && (flag >= 0 || flag == KIN_LINESEARCH_NONCONV) && ci_all_finite(u, m) &&
+        ci_call_residual(s, u, u[n], f) == 0) {
+        fs = 0.0;
+        for (long i = 0; i < n; i++) fs = fmax(fs, fabs(f[i] * NV_Ith_S(s->fscale, i)));
+    }
+    free(f);
+    if (fs <= s->ftol) return 0;
+    memcpy(u, s->w1, (size_t)m * sizeof(double));   /* as the plain attempt left it */
+    return -1;
+}
+
 /* Solve F(x) = 0, c.(x - xa) = sig from the guess x (overwritten with the
  * solution on success).  0 ok, -1 failed (reason in s->why). */
 int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
@@ -174,6 +207,12 @@ int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
             s->kin_msg[0] ? ": " : "", s->kin_msg);
         free(name);
         s->fail_fs = s->kin_fs;
+        if (s->prob.anchor && s->fail_fs <= 10.0 * s->ftol &&
+            anchored_retry(s, maxit, strategy, nit) == 0) {
+            ok = 1;
+            s->why[0] = '\0';
+            s->fail_fs = NAN;
+        }
     }
     if (fnorm) *fnorm = s->last_fnorm;
     if (!ok) return -1;

@@ -24,6 +24,27 @@ double sf_equil_reg_eps(const sf_equil *q, const double *y)
     return fmin(REG_EPS, fmax(q->reg_min, q->reg_rel * a * a));
 }
 
+int sf_equil_anchor(const double *y, double p, int on, void *user)
+{
+    (void)p;
+    sf_equil *q = user;
+    q->eps_anchor = 0.0;
+    if (!on || q->ncon == 0) return 0;
+    if (!q->lam_anchor && !(q->lam_anchor = malloc(sizeof(double) * (size_t)q->ncon))) return 1;
+    memcpy(q->lam_anchor, y + q->nq, sizeof(double) * (size_t)q->ncon);
+    q->eps_anchor = sf_equil_reg_eps(q, y);
+    return 0;
+}
+
+void sf_equil_anchor_rows(const sf_equil *q, const double *y, double *F)
+{
+    if (!(q->eps_anchor > 0)) return;
+    for (int r = 0; r < q->ncon; r++) {
+        int i = q->nq + r;
+        F[i] -= q->eps_anchor * q->yscale[i] / q->fscale[i] * (y[i] - q->lam_anchor[r]);
+    }
+}
+
 int sf_equil_init(sf_equil *q, const sf_model *m, int param, int group, int probe,
                   int component, double load, sf_error *err)
 {
@@ -139,6 +160,7 @@ void sf_equil_use_penalty(sf_equil *q, double lR, double ld)
 void sf_equil_free(sf_equil *q)
 {
     sf_peq_free(q);
+    free(q->lam_anchor);
     sf_energy_free(&q->e);
     sf_params_free(&q->par);
     sf_kin_free(&q->k);
@@ -269,6 +291,7 @@ int sf_equil_residual(const double *y, double p, double *F, void *user)
         const double *d = q->dx + q->rowc[r] * nq;
         for (int j = 0; j < nq; j++) F[j] += lam[row] * d[j];
     }
+    sf_equil_anchor_rows(q, y, F);
     return finite_all(F, q->n) ? 0 : 1;
 }
 
@@ -392,6 +415,7 @@ int sf_equil_create_solver(sf_equil *q, cont_solver **out)
     prob.jac_matrix = CONT_MATRIX_DENSE;
     prob.yscale = q->yscale;
     prob.fscale = q->fscale;
+    prob.anchor = sf_equil_anchor;
     prob.user = q;
     if (q->sparse) {
         prob.jacobian = sf_equil_jacobian_sparse;

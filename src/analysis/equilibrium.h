@@ -49,6 +49,8 @@ typedef struct sf_equil {
     int disp_row;         /* index among the support rows, -1 if none */
     double kref, lref;    /* reference stiffness [J] and length [m] */
     double reg_rel, reg_min;  /* sf_equil_reg_eps; 0: the fixed eps */
+    double *lam_anchor;   /* sf_equil_anchor: multipliers of the anchor, ncon */
+    double eps_anchor;    /* its eps; 0: no anchor (the plain residual) */
     double *yscale, *fscale;
     /* scratch */
     double *grad, *H, *gp, *g, *J, *dx;
@@ -131,6 +133,18 @@ void sf_equil_set_param(sf_equil *q, double p);
  * cone (flatstart.h, docs/flatstart.md "Small motions on a degenerate
  * ray"). */
 double sf_equil_reg_eps(const sf_equil *q, const double *y);
+
+/* The proximal anchor of the continuation engine (cont_anchor_fn): with
+ * on = 1 the residual's constraint rows become g - eps D (lambda -
+ * lambda_a), lambda_a the multipliers of y and eps = sf_equil_reg_eps(y),
+ * which makes the Jacobian's regularisation -eps D exact; on = 0 restores
+ * g.  For where Newton stagnates at a residual floor because nearly
+ * dependent rows (singular values below sqrt(eps)) keep part of g
+ * (docs/formulations.md, "Gravity and a tip load").  0 or 1 (no memory). */
+int sf_equil_anchor(const double *y, double p, int on, void *user);
+
+/* Adds the anchor's term to the constraint rows of F (nothing if off). */
+void sf_equil_anchor_rows(const sf_equil *q, const double *y, double *F);
 /* Callbacks for cont_problem (user = sf_equil *). */
 int sf_equil_residual(const double *y, double p, double *F, void *user);
 int sf_equil_jacobian(const double *y, double p, SUNMatrix Jy, double *Fp, void *user);

@@ -358,6 +358,7 @@ int sf_peq_residual(sf_equil *q, const double *y, double p, double *F)
     if (!finite_all(y, q->n) || !isfinite(p) || !rotations_ok(q, y)) return 1;
     q->nres++;
     assemble(q, y, p, F, 0, NULL);
+    sf_equil_anchor_rows(q, y, F);
     return finite_all(F, q->n) ? 0 : 1;
 }
 
@@ -547,6 +548,7 @@ int sf_peq_create_solver(sf_equil *q, cont_solver **out)
     prob.jac_nnz = q->pz->T.nnz;
     prob.yscale = q->yscale;
     prob.fscale = q->fscale;
+    prob.anchor = sf_equil_anchor;
     prob.user = q;
     *out = NULL;
     int rc = cont_create(&prob, sf_equil_sparse_linsol(q), out);   /* MUMPS unless "klu" */
