@@ -22,3 +22,9 @@ tests_test_stab_cert_SOURCES = tests/test_stab_cert.c
 tests_test_stab_cert_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_stab_cert_LDADD = $(SF_TEST_LIBS)
 EXTRA_DIST += tests/studies/waterbomb-2x2-all.cfg
+# the wrench of a fold on its faces (sf_peq_fold_wrench) against statics
+check_PROGRAMS += tests/test_fold_wrench
+TESTS += tests/test_fold_wrench
+tests_test_fold_wrench_SOURCES = tests/test_fold_wrench.c
+tests_test_fold_wrench_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_fold_wrench_LDADD = $(SF_TEST_LIBS)

@@ -633,3 +633,66 @@ int sf_equil_poses_start_flat(sf_equil *q, cont_solver *cs, double p0, double p1
     sf_equil_free(&f);
     return ok ? SF_OK : err->code;
 }
+
+/* (equilibrium_poses.h) The constraint force on the left face's pose
+ * coordinates xi = (phi, xf) is Q = -(dg/dxi)^T lambda (F = grad Pi + J^T
+ * lambda = 0: applied plus constraint forces vanish).  Virtual work
+ * Q . dxi = F . dxf + M_o . domega with domega = T dphi, T's columns the
+ * axial vectors of dR/dphi_a R^T: so F = Q_x, M_o = T^-T Q_phi (moment
+ * about the face's reference point xf), moved to the origin. */
+int sf_peq_fold_wrench(sf_equil *q, const double *y, int fold, double F[3], double M[3])
+{
+    struct sf_peq *z = q->pz;
+    const sf_model *m = q->m;
+    int qn = m->qn[fold], nv = qn + 12, l = m->topo->folds[fold].left;
+    double g[6], lam[6];
+    sf_poses_fold_rows(&z->P, y, fold, g, z->dg, NULL, NULL, z->work);
+    for (int c = 0; c < 6; c++) {
+        int k = z->kidx[6 * fold + c];
+        lam[c] = k < 0 ? 0.0 : y[z->nx + k];
+    }
+    double Q[6];
+    for (int a = 0; a < 6; a++) {
+        Q[a] = 0.0;
+        for (int c = 0; c < 6; c++) Q[a] -= lam[c] * z->dg[c * nv + qn + 6 + a];
+    }
+    double phi[3] = {0, 0, 0}, R[9], dR[3][9], xf[3];
+    int k = z->P.pose_of[l];
+    if (k >= 0) memcpy(phi, y + z->P.nq + 6 * k, sizeof phi);
+    sf_rodrigues(phi, R, dR, NULL);
+    sf_poses_face(&z->P, y, l, R, xf);
+    /* T (row-major): column a = axial(dR_a R^T) */
+    double T[9];
+    for (int a = 0; a < 3; a++) {
+        double W[9];
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                double s = 0.0;
+                for (int t = 0; t < 3; t++) s += dR[a][3 * i + t] * R[3 * j + t];
+                W[3 * i + j] = s;
+            }
+        T[0 * 3 + a] = 0.5 * (W[7] - W[5]);
+        T[1 * 3 + a] = 0.5 * (W[2] - W[6]);
+        T[2 * 3 + a] = 0.5 * (W[3] - W[1]);
+    }
+    /* solve T^T Mr = Q_phi (Cramer) */
+    double A[9];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) A[3 * i + j] = T[3 * j + i];
+    double det = A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) +
+                 A[2] * (A[3] * A[7] - A[4] * A[6]);
+    if (!(fabs(det) > 1e-300)) return SF_ENUMERIC;
+    double Mr[3];
+    for (int c = 0; c < 3; c++) {
+        double B[9];
+        memcpy(B, A, sizeof B);
+        for (int i = 0; i < 3; i++) B[3 * i + c] = Q[i];
+        Mr[c] = (B[0] * (B[4] * B[8] - B[5] * B[7]) - B[1] * (B[3] * B[8] - B[5] * B[6]) +
+                 B[2] * (B[3] * B[7] - B[4] * B[6])) / det;
+    }
+    for (int i = 0; i < 3; i++) F[i] = Q[3 + i];
+    M[0] = Mr[0] + xf[1] * F[2] - xf[2] * F[1];
+    M[1] = Mr[1] + xf[2] * F[0] - xf[0] * F[2];
+    M[2] = Mr[2] + xf[0] * F[1] - xf[1] * F[0];
+    return finite_all(F, 3) && finite_all(M, 3) ? SF_OK : SF_ENUMERIC;
+}

@@ -67,6 +67,16 @@ double sf_peq_dropped_residual(sf_equil *q, const double *y);
  * 6 i + c, -1 when that row is dropped (flatlimit_sparse.c). */
 int sf_peq_fold_row(const sf_equil *q, int fold_row);
 
+/* The wrench that fold i exerts on its left face at the solved state y
+ * (force F [N], moment M [N m] about the global origin), from the
+ * multipliers of its kept rows (dropped rows carry none): minus the
+ * rows' generalised force on the face's pose, turned into a wrench.  The
+ * right face (with the band) receives -F, -M.  Where the sheet has closed
+ * loops the distribution among folds is statically indeterminate: it is
+ * the solver's, and only what statics fixes (e.g. the sum over the folds
+ * of a face) is unique.  SF_OK or SF_ENUMERIC (non-finite). */
+int sf_peq_fold_wrench(sf_equil *q, const double *y, int fold, double F[3], double M[3]);
+
 /* Used by equilibrium.c when q->pz is set. */
 int sf_peq_residual(sf_equil *q, const double *y, double p, double *F);
 int sf_peq_jacobian(sf_equil *q, const double *y, double p, SUNMatrix Jy, double *Fp);
