@@ -398,11 +398,18 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
                      "start; %d Newton iterations, %d MUMPS factorisations); following the first, "
                      "the one the declared imperfection -1e-2 of the mode amplitudes leads to",
                      li.energy, li.iterations, li.factorisations);
-        else if (lim)
+        else if (lim) {
+            /* energy_alt is NAN when the other start found no state: say so in words */
+            char alt[64];
+            if (isfinite(li.energy_alt))
+                snprintf(alt, sizeof alt, "other start %.9g", li.energy_alt);
+            else
+                snprintf(alt, sizeof alt, "the other start found no state");
             snprintf(lnote, sizeof lnote, "the driving's branch from the sparse limit problem "
                      "(%d starts, %d Newton iterations, %d MUMPS factorisations, %d saddles left; "
-                     "limit energy %.9g, other start %.9g)", li.starts, li.iterations,
-                     li.factorisations, li.pushes, li.energy, li.energy_alt);
+                     "limit energy %.9g, %s)", li.starts, li.iterations,
+                     li.factorisations, li.pushes, li.energy, alt);
+        }
         else
             snprintf(lnote, sizeof lnote, "the sparse limit problem failed (%.200s): the "
                      "driving's first-order response with a declared imperfection (every mode "
