@@ -7,6 +7,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#define REFINE_MAX 4       /* refinements of a tangent from reused factors */
+#define REFINE_TOL 1e-10   /* their relative accuracy */
+#define REFINE_FLOOR 1e-7  /* accepted when they stall there (rounding) */
+
 int ci_kin_sys(N_Vector uv, N_Vector fv, void *data)
 {
     cont_solver *s = data;
@@ -104,6 +108,7 @@ int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
                double sig, int maxit, int strategy, int *nit, double *fnorm)
 {
     long m = s->m;
+    s->rgen = -1;
     memcpy(s->bc, c, (size_t)m * sizeof(double));
     memcpy(s->bxa, xa, (size_t)m * sizeof(double));
     s->bsig = sig;
@@ -173,6 +178,91 @@ int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
     if (!ok) return -1;
     memcpy(x, u, (size_t)m * sizeof(double));
     return 0;
+}
+
+/* The corrector of CONT_CORRECTOR_REUSE (cont.h, ALGORITHM): Newton's
+ * iteration on the corrector system with the engine's own bordered
+ * factorisation (s->bt), one per iteration as with KINSOL, converged as
+ * ci_correct: max|fscale F| <= ftol and the last step <= xtol (1 + |u|).
+ * The factors of the last iterate stay in s->bt, marked (border c) for
+ * ci_tangent_reuse.  0: converged, x holds the point; 1: not used (option,
+ * line search) or not converged, x unchanged (the caller runs ci_correct). */
+int ci_correct_reuse(cont_solver *s, double *x, const double *c, const double *xa,
+                     double sig, int maxit, int *nit, double *fnorm)
+{
+    long n = s->n, m = s->m;
+    s->rgen = -1;
+    if (s->corrector != CONT_CORRECTOR_REUSE || s->strategy != KIN_NONE) return 1;
+    double *u = N_VGetArrayPointer(s->u), *b = N_VGetArrayPointer(s->vb);
+    double *d = N_VGetArrayPointer(s->vx);
+    memcpy(u, x, (size_t)m * sizeof(double));
+    double dlast = HUGE_VAL;
+    for (int k = 0;; k++) {
+        if (ci_call_residual(s, u, u[n], b) != 0) return 1;
+        double g = -sig, fs = 0.0;
+        for (long i = 0; i <= n; i++) g += c[i] * (u[i] - xa[i]);
+        b[n] = g;
+        for (long i = 0; i < m; i++) fs = fmax(fs, fabs(b[i] * NV_Ith_S(s->fscale, i)));
+        if (k > 0 && fs <= s->ftol && dlast <= s->xtol * (1.0 + step_norm2(s, u))) {
+            memcpy(s->rc, c, (size_t)m * sizeof(double));
+            s->rgen = s->bt.gen;
+            if (nit) *nit = k;
+            if (fnorm) *fnorm = s->last_fnorm;
+            memcpy(x, u, (size_t)m * sizeof(double));
+            return 0;
+        }
+        if (k == maxit) return 1;
+        if (ci_call_jacobian(s, u, u[n]) != 0 || ci_bm_build(s, &s->bt, c) != 0 ||
+            ci_bm_factor(s, &s->bt, NULL, NULL) != 0)
+            return 1;
+        for (long i = 0; i < m; i++) b[i] = -b[i];
+        if (ci_bm_solve(s, &s->bt, s->vx, s->vb) != 0) return 1;
+        dlast = step_norm2(s, d);
+        for (long i = 0; i < m; i++) u[i] += d[i];
+        s->stp.newton_iters++;
+    }
+}
+
+/* The tangent solve [Jy Fp; c^T] v = e_n at a corrected point (Jy, Fp
+ * evaluated there) with the factors ci_correct_reuse left in s->bt (same
+ * border c, made at an iterate near the point), by iterative refinement:
+ * v <- v + B^{-1} (e_n - A v), B the factorised matrix, A the exact one.
+ * Each correction must be at most half the one before, so the iteration
+ * contracts: the spectral radius of E = I - B^{-1} A is below one, hence
+ * det(B^{-1} A) = det(I - E) > 0 (real eigenvalues of I - E positive,
+ * complex ones in conjugate pairs) and det A has the sign of det B; log|det
+ * A| is taken as log|det B| (they differ by log det(I - E), about -tr E).
+ * v in s->vx; 0, or -1 (factorise afresh).  One use: the mark is cleared. */
+int ci_tangent_reuse(cont_solver *s, const double *c, int *sign, double *logdet)
+{
+    long n = s->n, m = s->m;
+    int ok = s->rgen == s->bt.gen && s->rgen >= 0 &&
+             memcmp(s->rc, c, (size_t)m * sizeof(double)) == 0;
+    s->rgen = -1;
+    if (!ok) return -1;
+    double *v = s->w1, *r = N_VGetArrayPointer(s->vb), *dv = N_VGetArrayPointer(s->vx);
+    N_VConst(0.0, s->vb);
+    r[n] = 1.0;
+    if (ci_bm_solve(s, &s->bt, s->vx, s->vb) != 0) return -1;
+    memcpy(v, dv, (size_t)m * sizeof(double));
+    double prev = HUGE_VAL;
+    for (int it = 0; it < REFINE_MAX; it++) {
+        ci_bm_apply(s, c, v, r);
+        for (long i = 0; i < m; i++) r[i] = -r[i];
+        r[n] += 1.0;
+        if (ci_bm_solve(s, &s->bt, s->vx, s->vb) != 0) return -1;
+        double nd = scaled_norm2(s, dv);
+        for (long i = 0; i < m; i++) v[i] += dv[i];
+        double nv = scaled_norm2(s, v);
+        /* converged; or stalled at the rounding level after contracting */
+        if (nd <= REFINE_TOL * nv || (nd > 0.5 * prev && it >= 2 && nd <= REFINE_FLOOR * nv)) {
+            memcpy(dv, v, (size_t)m * sizeof(double));
+            return ci_bm_det(s, &s->bt, sign, logdet);
+        }
+        if (!(nd <= 0.5 * prev)) return -1;
+        prev = nd;
+    }
+    return -1;
 }
 
 int ci_solve_fixed(cont_solver *s, double *x, int *nit, double *fnorm)
