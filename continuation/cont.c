@@ -183,6 +183,7 @@ void cont_free(cont_solver *s)
     free(s->cw);
     free(s->w1);
     free(s->rc);
+    free(s->rw);
     free(s->mark);
     free(s->stamp);
     free(s->yscale_copy);
@@ -261,12 +262,13 @@ int cont_create(const cont_problem *prob, int linsol, cont_solver **out)
     s->cw = calloc((size_t)m, sizeof(double));
     s->w1 = calloc((size_t)m, sizeof(double));
     s->rc = calloc((size_t)m, sizeof(double));
+    s->rw = calloc(2 * (size_t)m, sizeof(double));
     s->rgen = -1;
     s->corrector = linsol == CONT_LINSOL_DENSE ? CONT_CORRECTOR_NEWTON : CONT_CORRECTOR_REUSE;
     s->mark = calloc((size_t)m + 2, 1);
     s->stamp = calloc((size_t)n, sizeof(long));
     if (!s->u || !s->uscale || !s->fscale || !s->vx || !s->vb || !s->Fp || !s->bc ||
-        !s->bxa || !s->cw || !s->w1 || !s->mark || !s->stamp || !s->rc)
+        !s->bxa || !s->cw || !s->w1 || !s->mark || !s->stamp || !s->rc || !s->rw)
         return ci_fail(s, CONT_ENOMEM, "out of memory (n = %ld)", n);
     N_VConst(1.0, s->uscale);
     N_VConst(1.0, s->fscale);

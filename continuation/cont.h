@@ -47,17 +47,19 @@
  * user's Jy and Fp, dense (LAPACK LU) or sparse CSC (MUMPS or KLU).
  *
  * With CONT_CORRECTOR_REUSE (the default of the sparse solvers) the
- * corrector is the same full Newton iteration run by the engine, and the
- * tangent at the corrected point x is not factorised afresh: the factors B
- * of [Jy Fp; (W t0)^T] at the last iterate (one Newton step from x, same
- * border) solve [Jy Fp; (W t0)^T](x) v = e_n by iterative refinement,
- * v <- v + B^{-1} (e_n - A v), until the correction is 1e-10 of |v| (or
- * stalls below 1e-7 of |v| after contracting); each correction at most
- * half the one before, else a fresh factorisation.  A contraction means
- * the spectral radius of E = I - B^{-1} A is below one, so det(B^{-1} A) =
- * det(I - E) > 0 and det A has the sign of det B: the branch-point test
- * sees the same sign; log|det A| is taken as log|det B|.  Special points
- * are located with fresh factorisations as before.
+ * corrector is the same full Newton iteration run by the engine, but only
+ * its first iteration factorises: the later Newton systems, and the tangent
+ * system at the corrected point x (same border), are solved with those
+ * factors B by iterative refinement, y <- y + B^{-1} (b - A y) with A the
+ * exact bordered matrix of the iterate (one Jacobian evaluation, as
+ * before), until the correction is 1e-10 of |y| (or stalls below 1e-7 of
+ * |y|, rounding, after contracting); each correction must be at most half
+ * the one before, else the iterate is factorised afresh (and its factors
+ * serve the rest).  So the iterates are Newton's to 1e-10 and the tests
+ * the same.  A contraction means the spectral radius of E = I - B^{-1} A
+ * is below one, so det(B^{-1} A) = det(I - E) > 0 and det A has the sign
+ * of det B: the branch-point test reads that sign (log|det A| is taken as
+ * log|det B|).  Special points are located with fresh factorisations.
  *
  * Step control.  A step is accepted when the corrector converges (max-norm
  * of the scaled residual <= ftol within max_newton iterations, last Newton
@@ -354,13 +356,13 @@ int cont_set_newton(cont_solver *s, double ftol, int max_iters, int strategy);
  * 5 more exact Newton iterations are made, else the attempt fails. */
 int cont_set_newton_steptol(cont_solver *s, double xtol);
 /* the corrector of the continuation steps: CONT_CORRECTOR_NEWTON (KINSOL,
- * then a fresh factorisation at the corrected point for its tangent and
- * determinant) or CONT_CORRECTOR_REUSE (the engine's own Newton, the same
- * iterates and tests, and the tangent and determinant sign from the
- * factors of its last iteration, refined; see ALGORITHM).  REUSE falls
- * back to NEWTON where it does not apply (line search, no convergence, a
- * refinement that does not contract).  Default: REUSE with a sparse
- * bordered solver (KLU, MUMPS), NEWTON with the dense one. */
+ * one factorisation per iteration, then a fresh one at the corrected point
+ * for its tangent and determinant) or CONT_CORRECTOR_REUSE (the engine's
+ * own Newton, the same iterates and tests, one factorisation per point
+ * when the refinements of ALGORITHM contract).  REUSE falls back to
+ * NEWTON where it does not apply (line search, no convergence).  Default:
+ * REUSE with a sparse bordered solver (KLU, MUMPS), NEWTON with the dense
+ * one. */
 enum { CONT_CORRECTOR_NEWTON = 0, CONT_CORRECTOR_REUSE = 1 };
 int cont_set_corrector(cont_solver *s, int kind);
 int cont_get_corrector(const cont_solver *s);

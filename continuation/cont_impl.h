@@ -105,6 +105,7 @@ struct cont_solver {
      * s->bt, made at an iterate near its solution with border rc */
     int corrector;           /* CONT_CORRECTOR_* */
     double *rc;              /* m */
+    double *rw;              /* work, 2m */
     long rgen;               /* s->bt.gen of those factors, -1: none */
     double *cw, *w1;         /* work, m each */
     char *mark;              /* permutation parity work, m+1 */
