@@ -25,6 +25,9 @@ int ci_kin_sys(N_Vector uv, N_Vector fv, void *data)
     double g = -s->bsig;
     for (long i = 0; i <= n; i++) g += s->bc[i] * (u[i] - s->bxa[i]);
     f[n] = g;
+    double fs = 0.0;
+    for (long i = 0; i < n; i++) fs = fmax(fs, fabs(f[i] * NV_Ith_S(s->fscale, i)));
+    s->kin_fs = fs;
     return 0;
 }
 
@@ -115,6 +118,7 @@ int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
     memcpy(N_VGetArrayPointer(s->u), x, (size_t)m * sizeof(double));
     s->why[0] = '\0';
     s->kin_msg[0] = '\0';
+    s->kin_fs = s->fail_fs = NAN;
     KINSetNumMaxIters(s->kmem, maxit);
     KINSetFuncNormTol(s->kmem, s->ftol);
     KINSetScaledStepTol(s->kmem, 1e-15);
@@ -166,6 +170,7 @@ int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
                 ci_why(s, "Newton stagnated with scaled residual %.3g > %.3g", fs, lim);
                 ok = 0;
             }
+            if (!ok) s->fail_fs = fs;
         }
     } else if (s->why[0] == '\0') {
         char *name = KINGetReturnFlagName(flag);
@@ -173,6 +178,7 @@ int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
             name ? name : "failure", nni, s->last_fnorm,
             s->kin_msg[0] ? ": " : "", s->kin_msg);
         free(name);
+        s->fail_fs = s->kin_fs;
     }
     if (fnorm) *fnorm = s->last_fnorm;
     if (!ok) return -1;

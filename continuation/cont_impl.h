@@ -129,9 +129,12 @@ struct cont_solver {
 
     cont_stats stp, last, total;
     double last_fnorm;       /* residual norm at the last residual call */
+    double kin_fs;           /* scaled max residual at KINSOL's last call */
+    double fail_fs;          /* the same where the last corrector attempt
+                              * failed (NAN: not known, or converged) */
     char why[400];           /* reason the last attempt failed */
     char kin_msg[256];       /* last message from KINSOL */
-    char msg[512];           /* first error */
+    char msg[1024];          /* first error */
     int err;
 };
 

@@ -276,6 +276,41 @@ static int special_points(cont_solver *s, const cpt *b, const cpt *xe, double he
     return 0;
 }
 
+/* A residual floor: every failed corrector attempt of a step ended with
+ * its scaled residual within FLOOR_FACTOR times the Newton tolerance.
+ * Newton then stagnates at the same residual however short the step is
+ * (the predictor is the last point): the equations cannot be solved more
+ * accurately there (e.g. nearly dependent constraint rows whose share of
+ * the residual a regularised Newton step does not remove), which is
+ * neither a turning point nor a branch point of the path. */
+#define FLOOR_FACTOR 10.0
+typedef struct { int fails, near; double lo, hi; } floor_watch;
+
+static void floor_count(const cont_solver *s, floor_watch *fw)
+{
+    fw->fails++;
+    double f = s->fail_fs;
+    if (!(f <= FLOOR_FACTOR * s->ftol)) return;
+    fw->near++;
+    fw->lo = fmin(fw->lo, f);
+    fw->hi = fmax(fw->hi, f);
+}
+
+/* The diagnosis of a stop at ds_min caused by a residual floor (else ""). */
+static void floor_note(const cont_solver *s, const floor_watch *fw, double tp, char *buf,
+                       size_t len)
+{
+    buf[0] = '\0';
+    if (fw->fails < 2 || fw->near < fw->fails) return;
+    snprintf(buf, len, "; diagnosis: all %d attempts stagnated at a scaled residual of "
+             "%.3g to %.3g, just above the Newton tolerance %.3g, however short the step: "
+             "a residual floor of the equations at this point (e.g. nearly dependent "
+             "constraint rows, whose share of the residual a regularised Newton step does "
+             "not remove), not a turning point (dp/ds = %.3g at the last point); a Newton "
+             "tolerance above %.3g gets past this point (the floor may grow further on)", fw->fails, fw->lo, fw->hi, s->ftol, tp,
+             fw->hi);
+}
+
 /* Compute one step from s->base and queue the resulting points. */
 static int compute_step(cont_solver *s)
 {
@@ -294,16 +329,19 @@ static int compute_step(cont_solver *s)
     double cosmax = s->max_angle > 0 ? cos(s->max_angle) : -2.0;
     int nit = 0, r;
     double fn = NAN;
+    floor_watch fw = { 0, 0, INFINITY, 0.0 };
     for (;;) {
         if (ds < s->ds_min) {
             free(c);
             ci_pt_free(x1);
             s->stop_reason = CONT_STOP_DSMIN;
+            char fl[512];
+            floor_note(s, &fw, b->t[n], fl, sizeof fl);
             return ci_fail(s, CONT_FAIL, "continuation stopped at step %ld: the step size "
                         "%.3g fell below ds_min = %.3g at p = %.12g (last accepted point, "
-                        "s = %.6g, residual norm %.3g); last attempt: %s",
+                        "s = %.6g, residual norm %.3g); last attempt: %s%s",
                         s->steps + 1, ds, s->ds_min, b->x[n], s->s_arc, b->pub.resnorm,
-                        s->why[0] ? s->why : "no reason recorded");
+                        s->why[0] ? s->why : "no reason recorded", fl);
         }
         for (long i = 0; i < m; i++) x1->x[i] = b->x[i] + ds * b->t[i];
         r = ci_correct_reuse(s, x1->x, c, b->x, ds, s->max_newton, &nit, &fn) == 0 ? 0
@@ -325,6 +363,7 @@ static int compute_step(cont_solver *s)
             }
         }
         if (r == 0) break;
+        floor_count(s, &fw);
         s->stp.retries++;
         ds *= s->shrink;
     }

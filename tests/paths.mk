@@ -10,8 +10,8 @@ EXTRA_DIST += tests/test_reactions.sh tests/test_run_exact.sh tests/studies/deg4
 TESTS += tests/test_flatstart.sh
 EXTRA_DIST += tests/test_flatstart.sh
 # the sparse start at the flat state for face poses (docs/flatstart.md)
-TESTS += tests/test_flatstart_sparse.sh
-EXTRA_DIST += tests/test_flatstart_sparse.sh
+TESTS += tests/test_flatstart_sparse.sh tests/test_loadpath.sh
+EXTRA_DIST += tests/test_flatstart_sparse.sh tests/test_loadpath.sh
 
 # the local loop rows of a vertex and the sparse first-order mobility
 check_PROGRAMS += tests/test_mobility_sparse

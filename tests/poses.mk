@@ -14,3 +14,11 @@ TESTS += tests/test_rowsel
 tests_test_rowsel_SOURCES = tests/test_rowsel.c
 tests_test_rowsel_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_rowsel_LDADD = $(SF_TEST_LIBS)
+# stability where the loop rows are redundant and lose rank: the
+# self-stress certificate (stab_cert.c) against the energy on closed states
+check_PROGRAMS += tests/test_stab_cert
+TESTS += tests/test_stab_cert
+tests_test_stab_cert_SOURCES = tests/test_stab_cert.c
+tests_test_stab_cert_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_stab_cert_LDADD = $(SF_TEST_LIBS)
+EXTRA_DIST += tests/studies/waterbomb-2x2-all.cfg

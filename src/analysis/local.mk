@@ -13,7 +13,7 @@ src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibri
 	src/analysis/mobility.c src/analysis/mobility.h src/analysis/mobility_sparse.c \
 	src/analysis/compare.c src/analysis/compare.h src/analysis/compare_impl.h \
 	src/analysis/compare_read.c src/analysis/compare_eval.c src/analysis/compare_write.c \
-	src/analysis/stability.c src/analysis/stability.h \
+	src/analysis/stability.c src/analysis/stability.h src/analysis/stab_cert.c \
 	src/analysis/ldlt.c src/analysis/ldlt.h \
 	src/analysis/sstab.c src/analysis/sstab.h \
 	src/analysis/bifurcation.c src/analysis/bifurcation.h \

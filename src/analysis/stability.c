@@ -206,6 +206,8 @@ static void dense_to_csc(const double *A, int nrow, int ncol, int lower, int *cp
 /* The sparse solver's verdict as this point's result. */
 static void take_sparse_result(sf_stab_result *R, const sf_sstab_result *S, int method)
 {
+    R->certified = 0;
+    R->cert_mu = R->cert_eig = 0.0;
     R->method = method;
     R->rank = S->rank;
     R->dim = S->dim;
@@ -283,9 +285,12 @@ int sf_stab_eval(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *
         /* too small a tangent space for ARPACK, or a singular KKT matrix
          * at every shift tried: the dense method decides */
     }
+    st->res.certified = 0;
+    st->res.cert_mu = st->res.cert_eig = 0.0;
     int rc = eval_dense(st, err);
     st->res.status = SF_SSTAB_OK;
     st->res.attempts = 0;
     st->res.reason[0] = '\0';
+    if (rc == SF_OK) rc = sf_stab_certify(st, q, y, p, err);
     return rc;
 }

@@ -27,6 +27,10 @@
  *    only when one short ARPACK attempt converges (sstab.h,
  *    SF_SSTAB_EIG_BOUNDED), else none (empty eig columns).  For large
  *    sheets, whose eigenvalue clusters make ARPACK slow.
+ * Fold coordinates, dense: where redundant rows lose rank a negative
+ * eigenvalue may come from the self-stress the multipliers carry;
+ * sf_stab_certify (stab_cert.c) then looks for a self-stress that makes
+ * H_c positive definite (stable, no eigenvalues written).
  * SF_EIG_AUTO uses dense up to SF_EIG_DENSE_MAX coordinates, inertia
  * above; ARPACK falls back to dense when the tangent space is too small for
  * it (fewer than nev + 2 dimensions).  Measured on square4 with K = 2 (72
@@ -64,6 +68,10 @@ typedef struct sf_stab_result {
     int status;        /* SF_SSTAB_OK, SF_SSTAB_RETRIED, SF_SSTAB_UNKNOWN (sstab.h) */
     int attempts;      /* ARPACK attempts (0 for dense, 1 without retry) */
     char reason[200];  /* what was retried or failed ("" when nothing) */
+    int certified;     /* 1: stable by a self-stress of redundant rows (stab_cert.c);
+                          then neig = 0 (the eigenvalues depend on the self-stress) */
+    double cert_mu;    /* the largest self-stress amplitude of the certificate */
+    double cert_eig;   /* the certificate's smallest eigenvalue (> 0) */
 } sf_stab_result;
 
 typedef struct sf_stab {
@@ -87,6 +95,15 @@ void sf_stab_free(sf_stab *st);
  * until the next call).  Fails (SF_ENUMERIC) only on non-finite input or a
  * LAPACK/ARPACK failure, with a message. */
 int sf_stab_eval(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *err);
+
+/* After a dense evaluation in fold coordinates that found a negative
+ * eigenvalue at a point with redundant constraint rows: look for a
+ * self-stress mu of the rows (null C^T, at most 64 of them) with
+ * Z^T HL(lambda + mu) Z positive definite, the second-order sufficient
+ * condition; when found, res says stable, morse 0, certified 1, no
+ * eigenvalues (stab_cert.c; docs/stability.md).  Called by
+ * sf_stab_eval. */
+int sf_stab_certify(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *err);
 
 const char *sf_stab_method_name(int method);
 
