@@ -4,8 +4,12 @@
  * the flat sheet: not an equilibrium, but HL then holds every load term;
  * the cost of a factorisation depends on the pattern, not on the values).
  * Prints one line per method: coordinates, rows, rank, Morse index,
- * eigenvalues found, seconds per evaluation (mean of R repetitions,
- * CLOCK_PROCESS_CPUTIME_ID: CPU time, the machine being shared).  Built and run by bench/stab-cost.sh; not part of
+ * eigenvalues found, CPU seconds (CLOCK_PROCESS_CPUTIME_ID, the machine
+ * being shared) of the first evaluation (with the symbolic analysis and,
+ * for the inertia, the rank-revealing QR) and per evaluation of the next
+ * R - 1 at the same point (what a point of a path costs while the pattern
+ * and the independent rows stay: sstab_rows.h), and for the inertia how
+ * the independent rows were found (QRs, reuses).  Built and run by bench/stab-cost.sh; not part of
  * make check.
  * usage: stab_cost STUDY METHOD[,METHOD...] [R] */
 #include <stdio.h>
@@ -16,6 +20,7 @@
 #include "equilibrium.h"
 #include "equilibrium_poses.h"
 #include "scene.h"
+#include "sstab.h"
 #include "stability.h"
 
 static double now(void)
@@ -69,19 +74,23 @@ int main(int argc, char **argv)
                 rc = 1;
                 break;
             }
-            double t0 = now();
-            for (int r = 0; r < reps && !rc; r++)
+            double t0 = now(), t1 = t0;
+            for (int r = 0; r < reps && !rc; r++) {
                 if (sf_stab_eval(&st, &eq, y, p, &err)) {
                     fprintf(stderr, "%s: %s\n", m, err.msg);
                     rc = 1;
                 }
-            double t = (now() - t0) / reps;
+                if (r == 0) t1 = now();
+            }
+            double first = t1 - t0, next = reps > 1 ? (now() - t1) / (reps - 1) : 0.0;
+            const sf_sstab_result *S = st.sp ? sf_sstab_get(st.sp) : NULL;
             if (!rc)
                 printf("%s p=%g method=%s coordinates=%d rows=%d rank=%d morse=%d stable=%d "
-                       "eigenvalues=%d eig1=%.6g cpu_seconds_per_eval=%.4f\n", sc.study.name, p,
-                       sf_stab_method_name(st.res.method), eq.nq, eq.ncon, st.res.rank,
-                       st.res.morse, st.res.stable, st.res.neig,
-                       st.res.neig > 0 ? st.res.eig[0] : 0.0, t);
+                       "eigenvalues=%d eig1=%.6g cpu_first=%.4f cpu_next=%.4f rank_qr=%d "
+                       "rank_reused=%d\n", sc.study.name, p, sf_stab_method_name(st.res.method),
+                       eq.nq, eq.ncon, st.res.rank, st.res.morse, st.res.stable, st.res.neig,
+                       st.res.neig > 0 ? st.res.eig[0] : 0.0, first, next, S ? S->rank_qr : 0,
+                       S ? S->rank_reused : 0);
             fflush(stdout);
             sf_stab_free(&st);
         }

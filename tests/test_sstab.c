@@ -14,6 +14,8 @@
  *  - the bounded effort (inertia alone, eigenvalues when cheap): Morse
  *    index, stability and det sign from the inertia, with and without
  *    eigenvalues, and with an eigenvalue of H_c exactly at zero;
+ *  - the independent rows reused from point to point, and decided anew
+ *    when the rank of C grows or falls;
  *  - every attempt failing: stability unknown at a stable point (but the
  *    Morse index known), unstable by the inertia at an unstable one, and
  *    sf_sstab_eval still returns SF_OK.
@@ -341,6 +343,66 @@ static void test_sstab_small_tangent(void **state)
     }
 }
 
+/* The independent rows kept from point to point (sstab_rows.h): the chain
+ * of NCH nodes, shift 0.3 (a Morse index of several), C = [e_p; a e_p +
+ * t e_q] on one sf_sstab object.  At t = 0 the second row is a multiple of
+ * the first (rank 1: node p pinned); at t != 0 node q is pinned too (rank
+ * 2).  Each evaluation must give the rank and the Morse index of the
+ * closed form (the free chains between the pinned nodes), whether the
+ * rows of the last QR were reused or not; the counters say which: a rank
+ * that grows (t = 0 -> 0.5, 0 -> 1e-7, a row only 1e-7 outside the span)
+ * or falls (t -> 0) makes a new QR, an unchanged one (0.5 -> 0.7) not. */
+static int chains_morse(const int *len, int nc, double s)
+{
+    int c = 0;
+    for (int k = 0; k < nc; k++)
+        for (int j = 1; j <= len[k]; j++) c += chain_eig(len[k], j, s) < 0;
+    return c;
+}
+
+static void test_sstab_rows_reuse(void **state)
+{
+    (void)state;
+    enum { Q = 45 }; /* second pinned node */
+    const double s = 0.3, a = 0.6;
+    static int cp[NCH + 1], ri[2 * NCH], ccp[NCH + 1], cri[3];
+    static double v[2 * NCH], cv[3];
+    chain_csc(NCH, s, cp, ri, v);
+    for (int j = 0; j <= NCH; j++) ccp[j] = j <= L1 ? 0 : j <= Q ? 2 : 3;
+    cri[0] = 0;
+    cri[1] = 1;
+    cri[2] = 1;
+    cv[0] = 1.0;
+    cv[1] = a;
+    sf_csc H = {NCH, NCH, cp, ri, v}, C = {2, NCH, ccp, cri, cv};
+    const int one[2] = {L1, NCH - 1 - L1}, two[3] = {L1, Q - L1 - 1, NCH - 1 - Q};
+    const int morse1 = chains_morse(one, 2, s), morse2 = chains_morse(two, 3, s);
+    assert_true(morse1 != morse2);
+    /* t, then the rank, QRs and reuses so far after the evaluation */
+    const double t[] = {0.0, 0.5, 0.7, 1e-8, 0.0, 1e-7, 0.2};
+    const int rank[] = {1, 2, 2, 2, 1, 2, 2}, qr[] = {1, 2, 2, 3, 4, 5, 5},
+              reused[] = {0, 0, 1, 1, 1, 1, 2};
+    sf_sstab *st;
+    sf_error err;
+    sf_error_clear(&err);
+    sf_sstab_opts o = {.nev = 2, .effort = SF_SSTAB_EIG_BOUNDED};
+    assert_int_equal(sf_sstab_create(&st, NCH, 2, &o, &err), SF_OK);
+    for (int k = 0; k < 7; k++) {
+        cv[2] = t[k];
+        assert_int_equal(sf_sstab_eval(st, &H, &C, &err), SF_OK);
+        const sf_sstab_result *R = sf_sstab_get(st);
+        print_message("# rows reused, t = %g: rank %d, Morse index %d, %d QRs, %d reused\n", t[k],
+                      R->rank, R->morse, R->rank_qr, R->rank_reused);
+        assert_int_equal(R->status, SF_SSTAB_OK);
+        assert_int_equal(R->rank, rank[k]);
+        assert_int_equal(R->morse, rank[k] == 1 ? morse1 : morse2);
+        assert_int_equal(R->stable, 0);
+        assert_int_equal(R->rank_qr, qr[k]);
+        assert_int_equal(R->rank_reused, reused[k]);
+    }
+    sf_sstab_free(st);
+}
+
 /* bad input is an error, not an unknown stability */
 static void test_sstab_bad_input(void **state)
 {
@@ -367,6 +429,7 @@ int main(void)
         cmocka_unit_test(test_sstab_unknown),
         cmocka_unit_test(test_sstab_small_tangent),
         cmocka_unit_test(test_sstab_bounded),
+        cmocka_unit_test(test_sstab_rows_reuse),
         cmocka_unit_test(test_sstab_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -16,6 +16,7 @@ src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibri
 	src/analysis/stability.c src/analysis/stability.h src/analysis/stab_cert.c \
 	src/analysis/ldlt.c src/analysis/ldlt.h \
 	src/analysis/sstab.c src/analysis/sstab.h \
+	src/analysis/sstab_rows.c src/analysis/sstab_rows.h \
 	src/analysis/bifurcation.c src/analysis/bifurcation.h \
 	src/analysis/dynamics.c src/analysis/dynamics.h src/analysis/dynamics_impl.h \
 	src/analysis/dynamics_dae.c \

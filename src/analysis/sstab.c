@@ -8,13 +8,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <SuiteSparseQR_C.h>
 #include <arpack/arpack.h>
 
 #include "ldlt.h"
+#include "sstab_rows.h"
 
 #define ZERO_ROW 1e-13     /* rows shorter than this times the longest: zero */
-#define RANK_TOL 1e-9      /* SPQR: (unit) columns of C^T left shorter than this are dependent */
 #define NULL_TOL 1e-12     /* MUMPS null pivot threshold (CNTL(3)) */
 #define SHIFT_REL 1e-6     /* sigma0 = -SHIFT_REL * max |diag HL| */
 #define EXTRA 6            /* eigenvalues computed beyond those wanted */
@@ -36,7 +35,7 @@ struct sf_sstab {
     int mk;                /* rows kept: independent rows of C */
     int mnz;               /* nonzero rows */
     int spqr_failed;       /* the last rank decision failed */
-    cholmod_common cc;
+    sf_rowbasis *rows;     /* the independent rows, reused while they span (sstab_rows.h) */
     double *b;             /* n + m */
     double scale, gersh;
     double below;          /* a shift below every eigenvalue of H_c (unstable points) */
@@ -87,9 +86,11 @@ int sf_sstab_create(sf_sstab **out, int n, int m, const sf_sstab_opts *opts, sf_
         sf_sstab_free(s);
         return rc;
     }
-    cholmod_l_start(&s->cc);
-    s->cc.print = 0;
-    s->cc.error_handler = NULL;
+    rc = sf_rowbasis_create(&s->rows, n, m, err);
+    if (rc) {
+        sf_sstab_free(s);
+        return rc;
+    }
     *out = s;
     return SF_OK;
 }
@@ -97,7 +98,7 @@ int sf_sstab_create(sf_sstab **out, int n, int m, const sf_sstab_opts *opts, sf_
 void sf_sstab_free(sf_sstab *s)
 {
     if (!s) return;
-    if (s->f) cholmod_l_finish(&s->cc);
+    sf_rowbasis_free(s->rows);
     sf_ldlt_free(s->f);
     free(s->ti);
     free(s->tj);
@@ -134,83 +135,6 @@ static int check_csc(const sf_csc *A, int nrow, int ncol, const char *name, sf_e
     return SF_OK;
 }
 
-/* Rank and independent rows of the scaled nonzero rows of C: sparse QR
- * with Heath's rank detection (SuiteSparseQR) of C^T, whose columns are
- * the rows; the first rank columns of its permutation E are independent
- * (R(0:r, 0:r) upper triangular with nonzero diagonal, checked).  On
- * return rnew[i] is the index of row i among the independent rows, or -1,
- * and mk their number; spqr_failed is set when SPQR failed. */
-static int independent_rows(sf_sstab *s, const sf_csc *C, sf_error *err)
-{
-    int n = s->n, m = C ? s->m : 0, mnz = s->mnz;
-    s->mk = 0;
-    s->spqr_failed = 0;
-    if (mnz == 0) return SF_OK;
-    long nnz = C->colptr[n];
-    cholmod_sparse *A = cholmod_l_allocate_sparse((size_t)n, (size_t)mnz, (size_t)nnz, 1, 1, 0,
-                                                  CHOLMOD_REAL, &s->cc);
-    if (!A) return sf_fail(err, SF_ENOMEM, "out of memory (CHOLMOD)");
-    SuiteSparse_long *Ap = A->p, *Ai = A->i;
-    double *Ax = A->x;
-    /* column c of A = row of C numbered c among the nonzero rows */
-    for (int c = 0; c <= mnz; c++) Ap[c] = 0;
-    for (long k = 0; k < nnz; k++) {
-        int c = s->rnew[C->rowind[k]];
-        if (c >= 0) Ap[c + 1]++;
-    }
-    for (int c = 0; c < mnz; c++) Ap[c + 1] += Ap[c];
-    SuiteSparse_long *next = malloc(sizeof(SuiteSparse_long) * (size_t)(mnz + 1));
-    if (!next) {
-        cholmod_l_free_sparse(&A, &s->cc);
-        return sf_fail(err, SF_ENOMEM, "out of memory");
-    }
-    memcpy(next, Ap, sizeof(SuiteSparse_long) * (size_t)mnz);
-    for (int j = 0; j < n; j++) /* rows in increasing j: sorted columns */
-        for (int k = C->colptr[j]; k < C->colptr[j + 1]; k++) {
-            int i = C->rowind[k], c = s->rnew[i];
-            if (c < 0) continue;
-            Ai[next[c]] = j;
-            Ax[next[c]++] = C->val[k] * s->rs[i];
-        }
-    free(next);
-    cholmod_sparse *R = NULL;
-    SuiteSparse_long *E = NULL;
-    SuiteSparse_long r = SuiteSparseQR_C_QR(SPQR_ORDERING_DEFAULT, RANK_TOL, 0, A, NULL, &R, &E,
-                                            &s->cc);
-    cholmod_l_free_sparse(&A, &s->cc);
-    int ok = r >= 0 && R;
-    /* check: R(k, k) is the last entry of column k, nonzero, for k < r */
-    for (SuiteSparse_long k = 0; ok && k < r; k++) {
-        SuiteSparse_long *Rp = R->p, *Ri = R->i;
-        double *Rx = R->x;
-        SuiteSparse_long last = Rp[k + 1] - 1;
-        if (last < Rp[k] || Ri[last] != k || !(fabs(Rx[last]) > RANK_TOL)) ok = 0;
-    }
-    int *indep = NULL;
-    if (ok) indep = calloc((size_t)mnz, sizeof(int));
-    if (ok && indep) {
-        for (SuiteSparse_long k = 0; k < r; k++) indep[E ? E[k] : k] = 1;
-        int t = 0;
-        for (int i = 0; i < m; i++) {
-            int c = s->rnew[i];
-            if (c < 0) continue;
-            s->rnew[i] = indep[c] ? t++ : -1;
-            if (s->rnew[i] < 0) s->rs[i] = 0.0;
-        }
-        s->mk = t;
-    }
-    if (R) cholmod_l_free_sparse(&R, &s->cc);
-    if (E) cholmod_l_free(mnz, sizeof(SuiteSparse_long), E, &s->cc);
-    if (ok && !indep) return sf_fail(err, SF_ENOMEM, "out of memory");
-    free(indep);
-    if (!ok) {
-        if (s->cc.status == CHOLMOD_OUT_OF_MEMORY)
-            return sf_fail(err, SF_ENOMEM, "out of memory (SuiteSparseQR)");
-        s->spqr_failed = 1;
-    }
-    return SF_OK;
-}
-
 /* Triplets of K(0) = [HL, Cs^T; Cs, 0] (lower triangle, scaled kept rows
  * of C), then n diagonal triplets that carry -sigma.  Also the scale of
  * HL and a Gershgorin lower bound of its spectrum. */
@@ -230,8 +154,9 @@ static int assemble(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *er
         s->rnew[i] = keep ? s->mnz++ : -1;
         s->rs[i] = keep ? 1.0 / s->rs[i] : 0.0;
     }
-    int rc = independent_rows(s, C, err);
+    int rc = sf_rowbasis_select(s->rows, C, s->rs, s->rnew, s->mnz, &s->mk, &s->spqr_failed, err);
     if (rc) return rc;
+    sf_rowbasis_counts(s->rows, &s->res.rank_qr, &s->res.rank_reused);
     long need = (long)HL->colptr[n] + (m > 0 ? (long)C->colptr[n] : 0) + n;
     if (need > s->cap) {
         int *ti = realloc(s->ti, sizeof(int) * (size_t)need);

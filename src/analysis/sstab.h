@@ -17,7 +17,9 @@
  *  - the rank r of C and r independent rows Cr: SuiteSparseQR of C^T with
  *    Heath's rank detection (tolerance 1e-9 on the unit rows, as the dense
  *    method's SVD cut).  Rank condition: rows whose smallest singular
- *    value lies near 1e-9 are ambiguous for either method;
+ *    value lies near 1e-9 are ambiguous for either method.  The rows of
+ *    the last QR are reused while a check shows they still span C
+ *    (sstab_rows.h);
  *  - K(sigma) = [HL - sigma I, Cr^T; Cr, 0] factorised by MUMPS (ldlt.h).
  *    Sylvester: neg(K) = neg(H_c - sigma) + r, so the Morse index is
  *    neg(K(0)) - r (when H_c is singular, at sigma0 = -1e-6 max|diag HL|,
@@ -93,6 +95,8 @@ typedef struct sf_sstab_result {
     int iters;         /* ARPACK restarts of the attempt that converged */
     int nop;           /* operator applications (MUMPS solves), all attempts */
     int analyses;      /* MUMPS symbolic analyses so far (pattern changes) */
+    int rank_qr;       /* rank-revealing QRs of C so far (sstab_rows.h) */
+    int rank_reused;   /* evaluations so far that reused the independent rows of the last QR */
 } sf_sstab_result;
 
 typedef struct sf_sstab sf_sstab;

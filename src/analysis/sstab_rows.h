@@ -1,0 +1,46 @@
+/* sstab_rows.h - a maximal set of independent constraint rows for sstab.c,
+ * decided by SuiteSparseQR and reused from point to point while a check
+ * shows that it still spans the rows (docs/stability.md, "Rank of C").
+ *
+ * The rank-revealing QR of C^T (Heath's method) costs far more than the
+ * LDL^T of the KKT matrix on large sheets (95 % of an evaluation on a
+ * 16 x 16 Miura), and the independent rows change only at special states.
+ * So the set S of the last QR is kept and checked at the next point:
+ *  1. every row of S is nonzero and P = [I, Cs^T; Cs, 0] (Cs: the scaled
+ *     rows of S) has no null pivot (MUMPS LDL^T, CNTL(3) = 1e-12): Cs has
+ *     full row rank, rank C >= |S|;
+ *  2. no other row of C leaves span(Cs): with u = projection of a random
+ *     Gaussian vector g onto null(Cs) (one solve with P), d . u is
+ *     Gaussian with standard deviation |Pi d|, Pi d the part of the unit
+ *     row d outside span(Cs), which the QR compares with its tolerance
+ *     1e-9.  Six such vectors; the rows of S give the round-off level of
+ *     u (Cs u = 0 exactly).  Accepted when every |d . u| <= 1e-11 and the
+ *     round-off is below 1e-12: a row with |Pi d| >= 1e-9 passes all six
+ *     draws with probability below (8e-3)^6 ~ 3e-13.  (Round-off puts
+ *     |d . u| near 1e-13 on a 16 x 16 Miura, and rows 1e-11 to 1e-9
+ *     outside the span, as just off the flat state, get a new QR.)
+ * Otherwise (and at the first point) the QR decides anew. */
+#ifndef SF_SSTAB_ROWS_H
+#define SF_SSTAB_ROWS_H
+
+#include "sf_error.h"
+#include "sstab.h"
+
+typedef struct sf_rowbasis sf_rowbasis;
+
+/* For m constraint rows of n coordinates. */
+int sf_rowbasis_create(sf_rowbasis **out, int n, int m, sf_error *err);
+void sf_rowbasis_free(sf_rowbasis *b);
+
+/* On entry rs[i] = 1 / |row i| and rnew[i] = the index of row i among
+ * the mnz nonzero rows (rs[i] = 0, rnew[i] = -1 for a row dropped as
+ * zero).  On return rnew[i] is the index of row i among the independent
+ * rows or -1 (then rs[i] = 0), *mk their number; *failed = 1 when the QR
+ * could not decide the rank.  Errors: lack of memory. */
+int sf_rowbasis_select(sf_rowbasis *b, const sf_csc *C, double *rs, int *rnew, int mnz, int *mk,
+                       int *failed, sf_error *err);
+
+/* Counts since creation: rank-revealing QRs, points whose set was reused. */
+void sf_rowbasis_counts(const sf_rowbasis *b, int *qr, int *reused);
+
+#endif
