@@ -30,8 +30,9 @@
  * constraints' tangent space and a shift on the x block makes the step
  * descend; a converged saddle is pushed off by a pseudo-random
  * perturbation (fixed seeds).  delta (tiny) selects the minimum-norm z.
- * A second start, the solution with its mode amplitudes negated, tells
- * a symmetric start (a distinct solution of equal energy) from a
+ * A second start, the solution with its mode amplitudes negated (its
+ * other unknowns kept as the first guess, a small iteration budget),
+ * tells a symmetric start (a distinct solution of equal energy) from a
  * selected one. */
 #include "flatlimit_sparse.h"
 
@@ -47,7 +48,8 @@
 #define REG_S 1e-12      /* eta of the last stage, scaled */
 #define ETA0 1e-8
 #define NSTAGES 3
-#define MAXIT 250        /* Newton iterations per stage (16x16 Miura: 428 in all) */
+#define MAXIT 250        /* Newton iterations per stage (16x16 Miura: 206, both starts) */
+#define MAXIT_MIRROR 30   /* the same for the mirror start (about 10 where it is a solution) */
 #define MAXPUSH 6
 #define CAP 1.0          /* fold coordinates move by at most CAP |x| per step */
 
@@ -211,9 +213,9 @@ static int lw_init(lim_ws *w, sf_equil *q, const double *y0, double p0, sf_error
 }
 
 /* The pattern (first call) and the values of the scaled KKT matrix at
- * w (x, mu, z, nu raw), with the shift on the x block and eta; the raw
- * residual into w->R.  Factorises; *neg the negative pivots. */
-static int lw_factor(lim_ws *L, const double *w, double shift, double eta, int *neg, sf_error *err)
+ * w (x, mu, z, nu raw) with eta, no shift (lw_shifted adds it); the raw
+ * residual into w->R. */
+static int lw_assemble(lim_ws *L, const double *w, double eta, sf_error *err)
 {
     sf_equil *q = L->q;
     int n = L->n, nx = L->nx;
@@ -270,7 +272,7 @@ static int lw_factor(lim_ws *L, const double *w, double shift, double eta, int *
         int i = L->r[k] % n, j = L->c[k] % n;
         double s = d[i] * d[j], val;
         if (L->src[k] >= 0) val = s * v[L->src[k]];
-        else if (L->src[k] == -1) val = i < nx ? shift : 0.0;
+        else if (L->src[k] == -1) val = 0.0;
         else if (L->src[k] == -2) val = i < nx ? DELTA_S : -fmax(eta, REG_S);
         else val = s * L->gx[k - L->nl];
         L->a[k] = val;
@@ -297,7 +299,17 @@ static int lw_factor(lim_ws *L, const double *w, double shift, double eta, int *
                 R[n + i] += v[e] * z[j];                          /* J z */
             }
         }
-    if (sf_ldlt_factor(L->f, 2 * n, tot, L->r, L->c, L->a, err)) return err->code;
+    return SF_OK;
+}
+
+/* Factorise the assembled matrix with the shift on the x block; *neg the
+ * negative pivots. */
+static int lw_shifted(lim_ws *L, double shift, int *neg, sf_error *err)
+{
+    long tot = L->nl + L->ngx;
+    for (long k = 0; k < tot; k++)
+        if (L->src[k] == -1 && L->r[k] < L->nx) L->a[k] = shift;
+    if (sf_ldlt_factor(L->f, 2 * L->n, tot, L->r, L->c, L->a, err)) return err->code;
     sf_ldlt_info li;
     sf_ldlt_get_info(L->f, &li);
     *neg = li.neg;
@@ -321,39 +333,39 @@ static double fold_max(const lim_ws *L, const double *x)
 
 /* Newton with inertia correction at a fixed eta; 0 when converged to a
  * state of the right inertia. */
-static int lw_stage(lim_ws *L, double *w, double eta, double tol, int *its, int *pushes,
+static int lw_stage(lim_ws *L, double *w, double eta, double tol, int maxit, int *its, int *pushes,
                     double *res, sf_error *err)
 {
     int n = L->n, N = 2 * n, target = 2 * L->ncon;
-    for (int it = 0; it < MAXIT; it++) {
-        double shift = 0.0;
+    for (int it = 0; it < maxit; it++) {
         int neg = 0;
-        for (int k = 0; k < 40; k++) {
-            if (lw_factor(L, w, shift, eta, &neg, err)) return -1;
-            if (k == 0) {
-                *res = lw_resnorm(L);
-                if (*res <= tol) {
-                    if (neg <= target) return 0;
-                    if (++*pushes > MAXPUSH) return 1;
-                    /* a saddle: pushed off (pseudo-random, fixed seed) */
-                    unsigned long seed = 2654435761u * (unsigned long)*pushes + 97u;
-                    double xm = fold_max(L, w);
-                    for (int i = 0; i < L->nf; i++) {
-                        seed = seed * 6364136223846793005ul + 1442695040888963407ul;
-                        w[i] += 1e-2 * xm * ((double)(seed >> 11) / 4503599627370496.0 - 1.0);
-                    }
-                    k = -1;
-                    shift = 0.0;
-                    continue;
-                }
+        if (lw_assemble(L, w, eta, err)) return -1;
+        *res = lw_resnorm(L);
+        if (*res <= tol) {
+            if (lw_shifted(L, 0.0, &neg, err)) return -1;
+            if (neg <= target) return 0;
+            if (++*pushes > MAXPUSH) return 1;
+            /* a saddle: pushed off (pseudo-random, fixed seed) */
+            unsigned long seed = 2654435761u * (unsigned long)*pushes + 97u;
+            double xm = fold_max(L, w);
+            for (int i = 0; i < L->nf; i++) {
+                seed = seed * 6364136223846793005ul + 1442695040888963407ul;
+                w[i] += 1e-2 * xm * ((double)(seed >> 11) / 4503599627370496.0 - 1.0);
             }
-            if (neg <= target) {
-                L->last_shift = shift;
-                break;
-            }
-            /* the shift of the previous iteration is the first guess */
-            shift = shift > 0 ? 4.0 * shift : fmax(1e-6, 0.25 * L->last_shift);
+            it--;
+            continue;
         }
+        /* the inertia correction: the first try is a quarter of the last
+         * shift that worked (0 once it has fallen below 4e-6), then 4 times
+         * more until the inertia is right (one factorisation per iteration
+         * where the shift changes slowly, instead of trying 0 every time) */
+        double shift = L->last_shift >= 4e-6 ? 0.25 * L->last_shift : 0.0;
+        for (int k = 0; k < 40; k++) {
+            if (lw_shifted(L, shift, &neg, err)) return -1;
+            if (neg <= target) break;
+            shift = shift > 0 ? 4.0 * shift : 1e-6;
+        }
+        L->last_shift = shift;
         (*its)++;
         double *s = malloc(sizeof(double) * (size_t)N);
         if (!s) return sf_fail(err, SF_ENOMEM, "out of memory"), -1;
@@ -400,14 +412,16 @@ static int lw_energy(lim_ws *L, const double *x, double *E, sf_error *err)
     return SF_OK;
 }
 
-/* The stages in eta from the start in w (x, mu; z = nu = 0). */
-static int lw_solve(lim_ws *L, double *w, double tol, sf_flatlimit_info *info, sf_error *err)
+/* The stages in eta from the start in w; maxit Newton iterations per
+ * stage at most. */
+static int lw_solve(lim_ws *L, double *w, double tol, int maxit, sf_flatlimit_info *info,
+                    sf_error *err)
 {
     double eta = ETA0, res = INFINITY;
     for (int st = 0; st < NSTAGES; st++, eta *= 0.1) {
         int last = st == NSTAGES - 1;
-        int rc = lw_stage(L, w, last ? REG_S : eta, last ? tol : fmax(tol, 1e-7), &info->iterations,
-                          &info->pushes, &res, err);
+        int rc = lw_stage(L, w, last ? REG_S : eta, last ? tol : fmax(tol, 1e-7), maxit,
+                          &info->iterations, &info->pushes, &res, err);
         info->stages = st + 1;
         info->residual = res;
         if (rc < 0) return err->code;
@@ -429,29 +443,20 @@ static void imperfect(const sf_model *m, double *x, double rel)
         for (int k = 1; k < m->qn[i]; k++) x[m->qoff[i] + k] += rel * mx;
 }
 
-/* One candidate: from the start x (mu; z = nu = 0) with the mode
- * imperfection rel.  0 converged, > 0 not, < 0 error in err. */
-static int candidate(lim_ws *L, const double *start, double rel, double *w,
+/* One candidate: from the start (nstart values of w: x, mu, then z, nu;
+ * the others 0) with the mode imperfection rel, at most maxit Newton
+ * iterations per stage.  0 converged, > 0 not, < 0 error in err. */
+static int candidate(lim_ws *L, const double *start, int nstart, double rel, int maxit, double *w,
                      sf_flatlimit_info *info, sf_error *err)
 {
     int n = L->n;
     memset(w, 0, sizeof(double) * 2 * (size_t)n);
-    memcpy(w, start, sizeof(double) * (size_t)n);
+    memcpy(w, start, sizeof(double) * (size_t)nstart);
     imperfect(L->q->m, w, rel);
     memset(info, 0, sizeof *info);
-    int rc = lw_solve(L, w, 1e-10, info, err);
+    int rc = lw_solve(L, w, 1e-10, maxit, info, err);
     if (rc && err->code != SF_ENUMERIC) return -1;
     return rc ? 1 : 0;
-}
-
-/* Sum of the mode amplitudes of x (the sign a declared imperfection
- * selects between mirror states). */
-static double mode_sum(const sf_model *m, const double *x)
-{
-    double t = 0.0;
-    for (int i = 0; i < m->nfolds; i++)
-        for (int k = 1; k < m->qn[i]; k++) t += x[m->qoff[i] + k];
-    return t;
 }
 
 int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double *u, double imperf,
@@ -464,7 +469,7 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
     info->energy_alt = NAN;
     double *st = NULL, *wc = NULL;
     if ((rc = lw_init(&L, q, y0, p0, err))) goto out;
-    st = malloc(sizeof(double) * (size_t)n);
+    st = malloc(sizeof(double) * 2 * (size_t)n);
     wc = malloc(sizeof(double) * 2 * (size_t)n);
     if (!st || !wc) {
         rc = sf_fail(err, SF_ENOMEM, "out of memory");
@@ -473,7 +478,7 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
     sf_flatlimit_info ci;
     sf_error ce;
     sf_error_clear(&ce);
-    int r = candidate(&L, u, imperf, w, info, &ce);
+    int r = candidate(&L, u, n, imperf, MAXIT, w, info, &ce);
     info->starts = 1;
     if (r) {
         *err = ce;
@@ -484,15 +489,19 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
     info->stable = 1;
     info->energy_alt = NAN;   /* candidate() cleared info */
     if (mirror) {
-        /* the mirror in the modes: the same fold angles, mode amplitudes
-         * negated, poses and multipliers from Newton */
-        memset(st, 0, sizeof(double) * (size_t)n);
-        for (int i = 0; i < m->nfolds; i++) {
-            st[m->qoff[i]] = w[m->qoff[i]];
+        /* the mirror in the modes: the solution with its mode amplitudes
+         * negated, every other unknown (poses, mu, z, nu) kept as a first
+         * guess.  Where the mirror is a solution too (a symmetric start)
+         * Newton reaches it in about ten iterations; from poses and
+         * multipliers set to zero it wandered (132 iterations on the 5x5
+         * Miura sheet, 420 without convergence on the 8x8 one) and ended
+         * elsewhere.  Hence a small budget: a mirror that does not
+         * converge within it is not a tie. */
+        memcpy(st, w, sizeof(double) * 2 * (size_t)n);
+        for (int i = 0; i < m->nfolds; i++)
             for (int k = 1; k < m->qn[i]; k++) st[m->qoff[i] + k] = -w[m->qoff[i] + k];
-        }
         sf_error_clear(&ce);
-        r = candidate(&L, st, 0.0, wc, &ci, &ce);
+        r = candidate(&L, st, 2 * n, 0.0, MAXIT_MIRROR, wc, &ci, &ce);
         info->starts = 2;
         info->iterations += ci.iterations;
         info->pushes += ci.pushes;
@@ -510,11 +519,9 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
             if (info->xdiff > 1e-6 && fold_max(&L, wc) > 1e-3 * xm) {
                 info->energy_alt = ci.energy;
                 info->ties = fabs(ci.energy - info->energy) <= 1e-7 * fabs(info->energy);
-                /* the lower energy; of two equal ones, the one the declared
-                 * imperfection's sign selects */
-                int take = info->ties ? mode_sum(m, wc) * imperf > mode_sum(m, w) * imperf
-                                      : ci.energy < info->energy;
-                if (take) {
+                /* the lower energy; of two equal ones, the first start's
+                 * (the one the declared imperfection leads to) */
+                if (!info->ties && ci.energy < info->energy) {
                     info->energy_alt = info->energy;
                     info->energy = ci.energy;
                     info->chosen = 1;

@@ -40,9 +40,10 @@ typedef struct sf_flatlimit_info {
  * of the mode amplitudes (every shape-mode amplitude of the start moved
  * by imperf times the largest fold angle of u; 0 for none); when mirror
  * is set, the solution with its mode amplitudes negated is solved from
- * too: a distinct solution of equal energy sets info->ties (the one
- * whose mode amplitudes sum to the sign of imperf is kept), a lower one
- * replaces the first.  SF_OK, SF_ENUMERIC (no convergence, with the numbers),
+ * too (from the solution with its other unknowns, at most 30 Newton
+ * iterations per stage): a distinct solution of equal energy sets
+ * info->ties (the first start's solution is kept), a lower one replaces
+ * the first.  SF_OK, SF_ENUMERIC (no convergence, with the numbers),
  * SF_ENOMEM. */
 int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double *u, double imperf,
                          int mirror, double *w, sf_flatlimit_info *info, sf_error *err);

@@ -390,13 +390,14 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
                                                   "sign";
         info->iterations = its;
         info->residual = fmax(rr, rt);
-        char lnote[400];
+        char lnote[600];
         if (lim && li.ties)
             snprintf(lnote, sizeof lnote, "the driving selects no single branch: the limit "
                      "problem from the first-order response and from its solution with the mode "
                      "amplitudes negated ends on two states of equal energy %.9g (a symmetric "
-                     "start); following the one whose mode amplitudes sum to the sign of the "
-                     "declared imperfection -1e-2", li.energy);
+                     "start; %d Newton iterations, %d MUMPS factorisations); following the first, "
+                     "the one the declared imperfection -1e-2 of the mode amplitudes leads to",
+                     li.energy, li.iterations, li.factorisations);
         else if (lim)
             snprintf(lnote, sizeof lnote, "the driving's branch from the sparse limit problem "
                      "(%d starts, %d Newton iterations, %d MUMPS factorisations, %d saddles left; "
@@ -407,7 +408,7 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
                      "driving's first-order response with a declared imperfection (every mode "
                      "amplitude -1e-2 times the largest fold angle)", lerr.msg);
         snprintf(info->note, sizeof info->note,
-                 "flat start (sparse): %.270s; a step of %.3g in p, %d Newton iterations, first "
+                 "flat start (sparse): %.500s; a step of %.3g in p, %d Newton iterations, first "
                  "point at p = %.6g, largest fold angle %.4g rad, fold-row residual %.2g, %d step "
                  "halvings%s", lnote, h, its, pt->p, max_angle(m, pt->y), fmax(rr, rt), halvings,
                  signs);
