@@ -2,6 +2,7 @@
 #include "stability.h"
 
 #include "equilibrium_poses.h"
+#include "study.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -48,6 +49,14 @@ static int resolved_method(int method, int nq)
 {
     if (method != SF_EIG_AUTO) return method;
     return nq > SF_EIG_DENSE_MAX ? SF_EIG_INERTIA : SF_EIG_DENSE;
+}
+
+int sf_stab_read_keys(sf_stab *st, const sf_study *s, sf_error *err)
+{
+    if (sf_study_has(s, "analysis.arpack_maxiter") &&
+        sf_study_int(s, "analysis.arpack_maxiter", 1000, &st->arpack_maxiter, err))
+        return err->code;
+    return sf_study_int(s, "analysis.arpack_attempts", 4, &st->arpack_attempts, err);
 }
 
 /* The sparse solver, created at the first use. */

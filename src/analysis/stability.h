@@ -89,6 +89,12 @@ typedef struct sf_stab {
 
 /* nev: how many of the smallest eigenvalues to report (>= 1). */
 int sf_stab_init(sf_stab *st, const sf_equil *q, int method, int nev, sf_error *err);
+
+/* The study's analysis.arpack_maxiter and analysis.arpack_attempts into
+ * st (before the first eval).  An absent arpack_maxiter stays 0, sstab.h's
+ * default: 1000 restarts per ARPACK attempt, and 10 for the one bounded
+ * attempt of the inertia method (docs/stability.md). */
+int sf_stab_read_keys(sf_stab *st, const sf_study *s, sf_error *err);
 void sf_stab_free(sf_stab *st);
 
 /* Stability of the solved point (y, p) of q; the result is st->res (valid

@@ -540,9 +540,7 @@ static int setup_stability(run_ctx *r, int *depth)
             r->step_bound = 0;
             return err->code;
         }
-        if (sf_study_int(s, "analysis.arpack_maxiter", 1000, &r->stab.arpack_maxiter, err) ||
-            sf_study_int(s, "analysis.arpack_attempts", 4, &r->stab.arpack_attempts, err))
-            return err->code;
+        if (sf_stab_read_keys(&r->stab, s, err)) return err->code;
     }
     return SF_OK;
 }
