@@ -182,6 +182,8 @@ void cont_free(cont_solver *s)
     free(s->bxa);
     free(s->cw);
     free(s->w1);
+    free(s->rc);
+    free(s->rw);
     free(s->mark);
     free(s->stamp);
     free(s->yscale_copy);
@@ -259,10 +261,14 @@ int cont_create(const cont_problem *prob, int linsol, cont_solver **out)
     s->bxa = calloc((size_t)m, sizeof(double));
     s->cw = calloc((size_t)m, sizeof(double));
     s->w1 = calloc((size_t)m, sizeof(double));
+    s->rc = calloc((size_t)m, sizeof(double));
+    s->rw = calloc(2 * (size_t)m, sizeof(double));
+    s->rgen = -1;
+    s->corrector = linsol == CONT_LINSOL_DENSE ? CONT_CORRECTOR_NEWTON : CONT_CORRECTOR_REUSE;
     s->mark = calloc((size_t)m + 2, 1);
     s->stamp = calloc((size_t)n, sizeof(long));
     if (!s->u || !s->uscale || !s->fscale || !s->vx || !s->vb || !s->Fp || !s->bc ||
-        !s->bxa || !s->cw || !s->w1 || !s->mark || !s->stamp)
+        !s->bxa || !s->cw || !s->w1 || !s->mark || !s->stamp || !s->rc || !s->rw)
         return ci_fail(s, CONT_ENOMEM, "out of memory (n = %ld)", n);
     N_VConst(1.0, s->uscale);
     N_VConst(1.0, s->fscale);
@@ -430,6 +436,17 @@ int cont_set_newton_steptol(cont_solver *s, double xtol)
     s->xtol = xtol;
     return CONT_OK;
 }
+
+int cont_set_corrector(cont_solver *s, int kind)
+{
+    NEED(s);
+    if (kind != CONT_CORRECTOR_NEWTON && kind != CONT_CORRECTOR_REUSE)
+        return ci_fail(s, CONT_EINPUT, "cont_set_corrector: unknown corrector %d", kind);
+    s->corrector = kind;
+    return CONT_OK;
+}
+
+int cont_get_corrector(const cont_solver *s) { return s ? s->corrector : 0; }
 
 int cont_set_newton_init(cont_solver *s, int max_iters, int strategy)
 {

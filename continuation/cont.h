@@ -46,6 +46,21 @@
  * whose Jacobian is the bordered matrix [Jy Fp; (W t0)^T], assembled from the
  * user's Jy and Fp, dense (LAPACK LU) or sparse CSC (MUMPS or KLU).
  *
+ * With CONT_CORRECTOR_REUSE (the default of the sparse solvers) the
+ * corrector is the same full Newton iteration run by the engine, but only
+ * its first iteration factorises: the later Newton systems, and the tangent
+ * system at the corrected point x (same border), are solved with those
+ * factors B by iterative refinement, y <- y + B^{-1} (b - A y) with A the
+ * exact bordered matrix of the iterate (one Jacobian evaluation, as
+ * before), until the correction is 1e-10 of |y| (or stalls below 1e-7 of
+ * |y|, rounding, after contracting); each correction must be at most half
+ * the one before, else the iterate is factorised afresh (and its factors
+ * serve the rest).  So the iterates are Newton's to 1e-10 and the tests
+ * the same.  A contraction means the spectral radius of E = I - B^{-1} A
+ * is below one, so det(B^{-1} A) = det(I - E) > 0 and det A has the sign
+ * of det B: the branch-point test reads that sign (log|det A| is taken as
+ * log|det B|).  Special points are located with fresh factorisations.
+ *
  * Step control.  A step is accepted when the corrector converges (max-norm
  * of the scaled residual <= ftol within max_newton iterations, last Newton
  * step <= xtol (1 + |u|), no non-finite value) and the tangent has turned by
@@ -352,6 +367,17 @@ int cont_set_newton(cont_solver *s, double ftol, int max_iters, int strategy);
  * branch point; if KINSOL stopped on the residual with a larger step, up to
  * 5 more exact Newton iterations are made, else the attempt fails. */
 int cont_set_newton_steptol(cont_solver *s, double xtol);
+/* the corrector of the continuation steps: CONT_CORRECTOR_NEWTON (KINSOL,
+ * one factorisation per iteration, then a fresh one at the corrected point
+ * for its tangent and determinant) or CONT_CORRECTOR_REUSE (the engine's
+ * own Newton, the same iterates and tests, one factorisation per point
+ * when the refinements of ALGORITHM contract).  REUSE falls back to
+ * NEWTON where it does not apply (line search, no convergence).  Default:
+ * REUSE with a sparse bordered solver (KLU, MUMPS), NEWTON with the dense
+ * one. */
+enum { CONT_CORRECTOR_NEWTON = 0, CONT_CORRECTOR_REUSE = 1 };
+int cont_set_corrector(cont_solver *s, int kind);
+int cont_get_corrector(const cont_solver *s);
 /* the fixed-p solves of cont_solve_fixed / cont_start: default 50 iterations,
  * KIN_LINESEARCH */
 int cont_set_newton_init(cont_solver *s, int max_iters, int strategy);

@@ -215,6 +215,7 @@ static int bm_pattern_check(cont_bmat *bm)
 int ci_bm_build(cont_solver *s, cont_bmat *bm, const double *c)
 {
     long n = s->n, m = n + 1;
+    bm->gen++;     /* the factors (dense: stored in A) no longer match */
     if (!bm->sparse) {
         SUNMatZero(bm->A);
         ci_jy_dense(s, SM_DATA_D(bm->A), m);
@@ -278,8 +279,8 @@ static int perm_parity(const sunindextype *perm, long m, char *mark)
  * or failed (reason in s->why). */
 int ci_bm_factor(cont_solver *s, cont_bmat *bm, int *sign, double *logdet)
 {
-    long m = bm->m;
     s->stp.nfactor++;
+    bm->gen++;
     int r = SUNLinSolSetup(bm->LS, bm->A);
     if (r != 0) {
         if (bm->mumps)
@@ -293,6 +294,14 @@ int ci_bm_factor(cont_solver *s, cont_bmat *bm, int *sign, double *logdet)
                 (long)SUNLinSolLastFlag(bm->LS) - 1);
         return -1;
     }
+    return ci_bm_det(s, bm, sign, logdet);
+}
+
+/* Sign and log|.| of the determinant of bm from its factors (made by
+ * ci_bm_factor or by KINSOL's setup).  0 ok, -1 singular or no factors. */
+int ci_bm_det(cont_solver *s, cont_bmat *bm, int *sign, double *logdet)
+{
+    long m = bm->m;
     int sg = 1;
     double ld = 0.0;
     if (!bm->sparse) {
@@ -337,6 +346,27 @@ int ci_bm_factor(cont_solver *s, cont_bmat *bm, int *sign, double *logdet)
         return -1;
     }
     return 0;
+}
+
+/* out = [Jy Fp; c^T] v with the Jy, Fp last evaluated (v, out: m values) */
+void ci_bm_apply(const cont_solver *s, const double *c, const double *v, double *out)
+{
+    long n = s->n;
+    double g = 0.0;
+    for (long i = 0; i < n; i++) out[i] = s->Fp[i] * v[n];
+    if (s->prob.jac_matrix == CONT_MATRIX_SPARSE) {
+        const sunindextype *ptr = SM_INDEXPTRS_S(s->Jy), *idx = SM_INDEXVALS_S(s->Jy);
+        const double *val = SM_DATA_S(s->Jy);
+        for (long j = 0; j < n; j++)
+            for (sunindextype k = ptr[j]; k < ptr[j + 1]; k++) out[idx[k]] += val[k] * v[j];
+    } else {
+        for (long j = 0; j < n; j++) {
+            const double *col = SM_COLUMN_D(s->Jy, j);
+            for (long i = 0; i < n; i++) out[i] += col[i] * v[j];
+        }
+    }
+    for (long i = 0; i <= n; i++) g += c[i] * v[i];
+    out[n] = g;
 }
 
 /* Solve with the factors of bm: x = A^{-1} b (vectors of length bm->m). */

@@ -7,6 +7,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#define REFINE_MAX 10      /* refinements of a solve with reused factors */
+#define REFINE_TOL 1e-10   /* their relative accuracy */
+#define REFINE_FLOOR 1e-7  /* accepted when they stall there (rounding) */
+
 int ci_kin_sys(N_Vector uv, N_Vector fv, void *data)
 {
     cont_solver *s = data;
@@ -140,6 +144,7 @@ int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
                double sig, int maxit, int strategy, int *nit, double *fnorm)
 {
     long m = s->m;
+    s->rgen = -1;
     memcpy(s->bc, c, (size_t)m * sizeof(double));
     memcpy(s->bxa, xa, (size_t)m * sizeof(double));
     s->bsig = sig;
@@ -218,6 +223,116 @@ int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
     if (!ok) return -1;
     memcpy(x, u, (size_t)m * sizeof(double));
     return 0;
+}
+
+static int refine_solve(cont_solver *s, const double *c, const double *rhs, double *x,
+                        double tol);
+
+/* The corrector of CONT_CORRECTOR_REUSE (cont.h, ALGORITHM): Newton's
+ * iteration on the corrector system with the engine's own bordered
+ * factorisation (s->bt), one per iteration as with KINSOL, converged as
+ * ci_correct: max|fscale F| <= ftol and the last step <= xtol (1 + |u|).
+ * The factors of the last iterate stay in s->bt, marked (border c) for
+ * ci_tangent_reuse.  0: converged, x holds the point; 1: not used (option,
+ * line search) or not converged, x unchanged (the caller runs ci_correct). */
+int ci_correct_reuse(cont_solver *s, double *x, const double *c, const double *xa,
+                     double sig, int maxit, int *nit, double *fnorm)
+{
+    long n = s->n, m = s->m;
+    s->rgen = -1;
+    if (s->corrector != CONT_CORRECTOR_REUSE || s->strategy != KIN_NONE) return 1;
+    double *u = N_VGetArrayPointer(s->u), *b = N_VGetArrayPointer(s->vb);
+    double *d = N_VGetArrayPointer(s->vx);
+    memcpy(u, x, (size_t)m * sizeof(double));
+    double dlast = HUGE_VAL;
+    int have = 0;
+    for (int k = 0;; k++) {
+        if (ci_call_residual(s, u, u[n], b) != 0) return 1;
+        double g = -sig, fs = 0.0;
+        for (long i = 0; i <= n; i++) g += c[i] * (u[i] - xa[i]);
+        b[n] = g;
+        for (long i = 0; i < m; i++) fs = fmax(fs, fabs(b[i] * NV_Ith_S(s->fscale, i)));
+        if (k > 0 && fs <= s->ftol && dlast <= s->xtol * (1.0 + step_norm2(s, u))) {
+            memcpy(s->rc, c, (size_t)m * sizeof(double));
+            s->rgen = s->bt.gen;
+            if (nit) *nit = k;
+            if (fnorm) *fnorm = s->last_fnorm;
+            memcpy(x, u, (size_t)m * sizeof(double));
+            return 0;
+        }
+        if (k == maxit) return 1;
+        if (ci_call_jacobian(s, u, u[n]) != 0) return 1;
+        for (long i = 0; i < m; i++) b[i] = -b[i];
+        /* the Newton step with the factors of an earlier iterate, refined,
+         * or with a factorisation here */
+        double *rhs = s->rw, *dr = s->rw + m;
+        memcpy(rhs, b, (size_t)m * sizeof(double));
+        if (have && refine_solve(s, c, rhs, dr, REFINE_TOL) == 0) {
+            memcpy(d, dr, (size_t)m * sizeof(double));
+        } else {
+            if (ci_bm_build(s, &s->bt, c) != 0 || ci_bm_factor(s, &s->bt, NULL, NULL) != 0)
+                return 1;
+            have = 1;
+            memcpy(b, rhs, (size_t)m * sizeof(double));
+            if (ci_bm_solve(s, &s->bt, s->vx, s->vb) != 0) return 1;
+        }
+        dlast = step_norm2(s, d);
+        for (long i = 0; i < m; i++) u[i] += d[i];
+        s->stp.newton_iters++;
+    }
+}
+
+/* x = A^{-1} rhs for the exact bordered matrix A = [Jy Fp; c^T] (Jy, Fp as
+ * last evaluated) with the factors B in s->bt of a nearby matrix, by
+ * iterative refinement: x <- x + B^{-1} (rhs - A x).  Each correction must
+ * be at most half the one before (the iteration contracts: the spectral
+ * radius of E = I - B^{-1} A is below one, hence det(B^{-1} A) = det(I - E)
+ * > 0, real eigenvalues of I - E positive and complex ones in conjugate
+ * pairs, and det A has the sign of det B); done when the correction is
+ * REFINE_TOL of |x|, or when it stalls below REFINE_FLOOR of |x| (rounding)
+ * after contracting.  0, or -1 (factorise afresh). */
+static int refine_solve(cont_solver *s, const double *c, const double *rhs, double *x,
+                        double tol)
+{
+    long m = s->m;
+    double *r = N_VGetArrayPointer(s->vb), *dx = N_VGetArrayPointer(s->vx);
+    memcpy(r, rhs, (size_t)m * sizeof(double));
+    if (ci_bm_solve(s, &s->bt, s->vx, s->vb) != 0) return -1;
+    memcpy(x, dx, (size_t)m * sizeof(double));
+    double prev = HUGE_VAL;
+    for (int it = 0; it < REFINE_MAX; it++) {
+        ci_bm_apply(s, c, x, r);
+        for (long i = 0; i < m; i++) r[i] = rhs[i] - r[i];
+        if (ci_bm_solve(s, &s->bt, s->vx, s->vb) != 0) return -1;
+        double nd = scaled_norm2(s, dx);
+        for (long i = 0; i < m; i++) x[i] += dx[i];
+        double nx = scaled_norm2(s, x);
+        if (nd <= tol * nx || (nd > 0.5 * prev && it >= 2 && nd <= REFINE_FLOOR * nx))
+            return 0;
+        if (!(nd <= 0.5 * prev)) return -1;
+        prev = nd;
+    }
+    return -1;
+}
+
+/* The tangent solve [Jy Fp; c^T] v = e_n at a corrected point (Jy, Fp
+ * evaluated there) with the factors ci_correct_reuse left in s->bt (same
+ * border c, made at an iterate near the point), by refine_solve; log|det
+ * A| is taken as log|det B| (they differ by log det(I - E), about -tr E).
+ * v in s->vx; 0, or -1 (factorise afresh).  One use: the mark is cleared. */
+int ci_tangent_reuse(cont_solver *s, const double *c, int *sign, double *logdet)
+{
+    long n = s->n, m = s->m;
+    int ok = s->rgen == s->bt.gen && s->rgen >= 0 &&
+             memcmp(s->rc, c, (size_t)m * sizeof(double)) == 0;
+    s->rgen = -1;
+    if (!ok) return -1;
+    double *rhs = s->rw, *v = s->rw + m;
+    for (long i = 0; i < m; i++) rhs[i] = 0.0;
+    rhs[n] = 1.0;
+    if (refine_solve(s, c, rhs, v, REFINE_TOL) != 0) return -1;
+    memcpy(N_VGetArrayPointer(s->vx), v, (size_t)m * sizeof(double));
+    return ci_bm_det(s, &s->bt, sign, logdet);
 }
 
 int ci_solve_fixed(cont_solver *s, double *x, int *nit, double *fnorm)

@@ -57,6 +57,7 @@ typedef struct cont_bmat {
     sunindextype *pat_ptr, *pat_idx;  /* last pattern analysed */
     sunindextype pat_cap;
     int pat_valid;
+    long gen;                 /* factorisations made so far (ci_bm_factor) */
 } cont_bmat;
 
 typedef struct cpt {
@@ -99,6 +100,13 @@ struct cont_solver {
 
     /* corrector border: c.(x - xa) - sig = 0 */
     double *bc, *bxa, bsig;
+
+    /* the reusing corrector (cont_corrector.c): the factors it left in
+     * s->bt, made at an iterate near its solution with border rc */
+    int corrector;           /* CONT_CORRECTOR_* */
+    double *rc;              /* m */
+    double *rw;              /* work, 2m */
+    long rgen;               /* s->bt.gen of those factors, -1: none */
     double *cw, *w1;         /* work, m each */
     char *mark;              /* permutation parity work, m+1 */
     long *stamp;             /* duplicate check of sparse Jy, n */
@@ -155,6 +163,8 @@ void ci_why(cont_solver *s, const char *fmt, ...)
 
 /* cont_bordered.c: user callbacks wrapped; bordered matrices */
 int ci_bm_build(cont_solver *s, cont_bmat *bm, const double *c);
+void ci_bm_apply(const cont_solver *s, const double *c, const double *v, double *out);
+int ci_bm_det(cont_solver *s, cont_bmat *bm, int *sign, double *logdet);
 int ci_bm_factor(cont_solver *s, cont_bmat *bm, int *sign, double *logdet);
 void ci_bm_free(cont_bmat *bm);
 int ci_bm_init(cont_solver *s, cont_bmat *bm, long m, int linsol,
@@ -170,6 +180,9 @@ sunindextype ci_jy_column(const cont_solver *s, long j, sunindextype *bi, double
 /* cont_corrector.c: KINSOL corrector, Newton at fixed p */
 int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
                double sig, int maxit, int strategy, int *nit, double *fnorm);
+int ci_correct_reuse(cont_solver *s, double *x, const double *c, const double *xa,
+                     double sig, int maxit, int *nit, double *fnorm);
+int ci_tangent_reuse(cont_solver *s, const double *c, int *sign, double *logdet);
 void ci_kin_err(int code, const char *module, const char *function,
                 char *msg, void *data);
 int ci_kin_jac(N_Vector uv, N_Vector fv, SUNMatrix J, void *data,

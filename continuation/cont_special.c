@@ -17,19 +17,25 @@ int ci_eval_point(cont_solver *s, cpt *q, const double *c, int dir, int keep_t)
 {
     long n = s->n, m = s->m;
     if (ci_call_jacobian(s, q->x, q->x[n]) != 0) return -1;
-    if (ci_bm_build(s, &s->bt, c) != 0) return -1;
     int sg = 0;
     double ld = 0.0;
-    int fr = ci_bm_factor(s, &s->bt, &sg, &ld);
+    /* the corrector's last factors, refined, or a factorisation here */
+    int fr = -1, reused = !keep_t && ci_tangent_reuse(s, c, &sg, &ld) == 0;
+    if (!reused) {
+        if (ci_bm_build(s, &s->bt, c) != 0) return -1;
+        fr = ci_bm_factor(s, &s->bt, &sg, &ld);
+    }
     if (keep_t) {
         q->det_valid = fr == 0;
         q->pub.det_sign = fr == 0 ? sg : 0;
         q->pub.log_abs_det = fr == 0 ? ld : -HUGE_VAL;
     } else {
-        if (fr != 0) return -1;
-        N_VConst(0.0, s->vb);
-        NV_Ith_S(s->vb, n) = 1.0;
-        if (ci_bm_solve(s, &s->bt, s->vx, s->vb) != 0) return -1;
+        if (!reused) {
+            if (fr != 0) return -1;
+            N_VConst(0.0, s->vb);
+            NV_Ith_S(s->vb, n) = 1.0;
+            if (ci_bm_solve(s, &s->bt, s->vx, s->vb) != 0) return -1;
+        }
         double *v = N_VGetArrayPointer(s->vx);
         double nv = sqrt(ci_dotw(s, v, v));
         if (!(nv > 0) || !isfinite(nv)) {

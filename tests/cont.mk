@@ -7,3 +7,9 @@ tests_test_cont_LDADD = $(SF_TEST_LIBS)
 tests_test_cont_det_SOURCES = tests/test_cont_det.c tests/cont_test.h
 tests_test_cont_det_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_cont_det_LDADD = $(SF_TEST_LIBS)
+# the reusing corrector: the same paths as KINSOL's with fewer factorisations
+check_PROGRAMS += tests/test_cont_reuse
+TESTS += tests/test_cont_reuse
+tests_test_cont_reuse_SOURCES = tests/test_cont_reuse.c tests/cont_test.h
+tests_test_cont_reuse_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_cont_reuse_LDADD = $(SF_TEST_LIBS)

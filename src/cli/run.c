@@ -297,9 +297,9 @@ static int write_point(run_ctx *r, const cont_point *pt)
     cont_stats last;
     memset(&last, 0, sizeof last);
     if (r->solver) cont_get_stats(r->solver, &last, NULL);
-    sf_outbuf_printf(&r->stats, "%ld,%d,%.6g,%.6g,%d,%ld,%ld,%ld,%ld,%.6g\n", r->npoints, r->bif.branch,
+    sf_outbuf_printf(&r->stats, "%ld,%d,%.6g,%.6g,%d,%ld,%ld,%ld,%ld,%.6g,%ld\n", r->npoints, r->bif.branch,
               pt->p, pt->ds, pt->newton_iters, last.nres, last.njac, last.retries, last.nlocate,
-              last.wall);
+              last.wall, last.nfactor);
     int special = pt->label[0] && strcmp(pt->label, "EP") != 0;
     if (special) {
         sf_outbuf_printf(&r->special, "%ld\t%d\t%s\t%.12g\t%.12g", r->npoints, r->bif.branch, pt->label,
@@ -794,7 +794,7 @@ static int write_outputs(run_ctx *r)
     WRITE("branch.tsv", out);
     out.n = 0;
     sf_outbuf_printf(&out, "# smoothfold %s per-step solver statistics for %s\n", PACKAGE_VERSION, s->name);
-    sf_outbuf_printf(&out, "point,branch,p,ds,newton,residual_evals,jacobian_evals,retries,locate_points,wall_s\n");
+    sf_outbuf_printf(&out, "point,branch,p,ds,newton,residual_evals,jacobian_evals,retries,locate_points,wall_s,factorisations\n");
     if (r->stats.n) sf_outbuf_printf(&out, "%.*s", (int)r->stats.n, r->stats.s);
     WRITE("stats.csv", out);
     out.n = 0;
