@@ -11,8 +11,10 @@
 # end of the path (analysis.max_steps = STEPS, default 100000) within
 # TIMEOUT seconds (default 600).  Prints a markdown table: unknowns,
 # Jacobian nonzeros, points, p reached, Newton iterations of the accepted
-# corrector attempts (stats.csv "newton"), Jacobian evaluations (each one
-# factorised once: the factorisations, failed attempts included), step
+# corrector attempts (stats.csv "newton"), Jacobian evaluations (failed
+# attempts included), factorisations of the corrector matrix (stats.csv
+# "factorisations": the reusing corrector of the sparse solvers factorises
+# about once per point and solves the rest with refinement), step
 # retries (failed corrector attempts), wall time, peak memory
 # (/usr/bin/time -v), exit status (0 = end of the path reached); then per
 # driving the fitted exponent of the wall time against the unknowns over
@@ -38,8 +40,8 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 echo "K = $K, stability $stab, flat start $start, formulation $form, timeout $tmo s"
 echo
-echo "| driving | m | folds | unknowns | nonzeros | points | p reached | Newton | Jacobians | retries | wall [s] | peak MB | status |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+echo "| driving | m | folds | unknowns | nonzeros | points | p reached | Newton | Jacobians | factorisations | retries | wall [s] | peak MB | status |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for d in $drivings; do
     for m in $sizes; do
         t=$tmp/$d$m
@@ -52,19 +54,21 @@ for d in $drivings; do
         wall=$(awk -F': ' '/Elapsed \(wall clock\)/ { n = split($2, a, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + a[i]; print s }' "$t.time")
         mem=$(awk -F': ' '/Maximum resident/ { printf "%.0f", $2 / 1024 }' "$t.time")
         folds=$(grep -c 'from = ' "$t.cfg")
-        unk=-; nnz=-; pts=0; pend=-; newt=0; jac=0; ret=0
+        unk=-; nnz=-; pts=0; pend=-; newt=0; jac=0; ret=0; fac=-
         if [ -f "$t.out/branch.tsv" ]; then
             unk=$(sed -n 's/^# formulation: [a-z]*, \([0-9]*\) unknowns.*/\1/p' "$t.out/branch.tsv")
             nnz=$(sed -n 's/.*multipliers), \([0-9]*\) Jacobian nonzeros.*/\1/p' "$t.out/branch.tsv")
             pts=$(grep -v '^#' "$t.out/branch.tsv" | awk 'NR > 1' | wc -l)
             pend=$(grep -v '^#' "$t.out/branch.tsv" | awk -F'\t' 'NR > 1 { p = $4 } END { printf "%.4g", p }')
-            set -- $(grep -v '^#' "$t.out/stats.csv" | awk -F, 'NR > 1 { n += $5; j += $7; r += $8 } END { print n + 0, j + 0, r + 0 }')
-            newt=$1; jac=$2; ret=$3
+            set -- $(grep -v '^#' "$t.out/stats.csv" | awk -F, 'NR == 1 { for (k = 1; k <= NF; k++) c[$k] = k; next }
+                { n += $c["newton"]; j += $c["jacobian_evals"]; r += $c["retries"]; if (c["factorisations"]) f += $c["factorisations"] }
+                END { print n + 0, j + 0, r + 0, (c["factorisations"] ? f + 0 : "-") }')
+            newt=$1; jac=$2; ret=$3; fac=$4
         fi
         [ -z "$unk" ] && unk=-
         [ -z "$nnz" ] && nnz=-
         st=$rc; [ $rc -eq 124 ] && st="timeout ${tmo} s"
-        echo "| $d | $m | $folds | $unk | $nnz | $pts | $pend | $newt | $jac | $ret | $wall | $mem | $st |"
+        echo "| $d | $m | $folds | $unk | $nnz | $pts | $pend | $newt | $jac | $fac | $ret | $wall | $mem | $st |"
         [ $rc -eq 0 ] && [ "$m" -ge "$fitfrom" ] && [ "$unk" != - ] && echo "$d $unk $wall" >> "$tmp/fit"
     done
 done
