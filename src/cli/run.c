@@ -359,7 +359,8 @@ static int write_point(run_ctx *r, const cont_point *pt)
                 pt->p, sarc, pt->newton_iters, fmax(rr, rt));
         if (s->nprobes) fprintf(stderr, "  %s uz %-11.5g", s->probes[0].name, u0[2]);
         if (r->do_stab)
-            fprintf(stderr, "  %s", r->stab.res.stable ? "stable  " : "unstable");
+            fprintf(stderr, "  %s", r->stab.res.stable < 0 ? "unknown "   /* see the note */
+                                    : r->stab.res.stable ? "stable  " : "unstable");
         if (r->bif.nbranches > 1 || r->bif.max_depth > 0) fprintf(stderr, "  branch %d", r->bif.branch);
         fprintf(stderr, "%s%s\n", pt->label[0] ? "  " : "", pt->label);
     }
