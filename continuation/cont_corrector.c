@@ -25,9 +25,7 @@ int ci_kin_sys(N_Vector uv, N_Vector fv, void *data)
     double g = -s->bsig;
     for (long i = 0; i <= n; i++) g += s->bc[i] * (u[i] - s->bxa[i]);
     f[n] = g;
-    double fs = 0.0;
-    for (long i = 0; i < n; i++) fs = fmax(fs, fabs(f[i] * NV_Ith_S(s->fscale, i)));
-    s->kin_fs = fs;
+    s->kin_fs = ci_fscaled_max(s, f, n);
     return 0;
 }
 
@@ -51,6 +49,15 @@ void ci_kin_err(int code, const char *module, const char *function,
     (void)code;
     cont_solver *s = data;
     snprintf(s->kin_msg, sizeof s->kin_msg, "%s/%s: %s", module, function, msg);
+}
+
+/* max_i |fscale_i f_i| over the first len rows: the residual test of the
+ * corrector (KINSOL's own scaled max norm). */
+double ci_fscaled_max(const cont_solver *s, const double *f, long len)
+{
+    double fs = 0.0;
+    for (long i = 0; i < len; i++) fs = fmax(fs, fabs(f[i] * NV_Ith_S(s->fscale, i)));
+    return fs;
 }
 
 static double scaled_norm2(const cont_solver *s, const double *v)
@@ -128,10 +135,8 @@ static int anchored_retry(cont_solver *s, int maxit, int strategy, int *nit)
     double fs = INFINITY;
     double *f = malloc((size_t)n * sizeof(double));
     if (f && (flag >= 0 || flag == KIN_LINESEARCH_NONCONV) && ci_all_finite(u, m) &&
-        ci_call_residual(s, u, u[n], f) == 0) {
-        fs = 0.0;
-        for (long i = 0; i < n; i++) fs = fmax(fs, fabs(f[i] * NV_Ith_S(s->fscale, i)));
-    }
+        ci_call_residual(s, u, u[n], f) == 0)
+        fs = ci_fscaled_max(s, f, n);
     free(f);
     if (fs <= s->ftol) return 0;
     memcpy(u, s->w1, (size_t)m * sizeof(double));   /* as the plain attempt left it */
@@ -248,10 +253,10 @@ int ci_correct_reuse(cont_solver *s, double *x, const double *c, const double *x
     int have = 0;
     for (int k = 0;; k++) {
         if (ci_call_residual(s, u, u[n], b) != 0) return 1;
-        double g = -sig, fs = 0.0;
+        double g = -sig;
         for (long i = 0; i <= n; i++) g += c[i] * (u[i] - xa[i]);
         b[n] = g;
-        for (long i = 0; i < m; i++) fs = fmax(fs, fabs(b[i] * NV_Ith_S(s->fscale, i)));
+        double fs = ci_fscaled_max(s, b, m);
         if (k > 0 && fs <= s->ftol && dlast <= s->xtol * (1.0 + step_norm2(s, u))) {
             memcpy(s->rc, c, (size_t)m * sizeof(double));
             s->rgen = s->bt.gen;

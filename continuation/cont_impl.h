@@ -144,6 +144,7 @@ static inline int ci_differ(double a, double b) { return signbit(a) != signbit(b
 
 /* cont.c: helpers, errors, timing; points; life cycle, options, getters */
 int ci_all_finite(const double *v, long len);
+double ci_fscaled_max(const cont_solver *s, const double *f, long len);
 void ci_clear_run(cont_solver *s);
 double ci_dotw(const cont_solver *s, const double *a, const double *b);
 int ci_fail(cont_solver *s, int code, const char *fmt, ...)

@@ -178,8 +178,7 @@ int cont_start_tangent(cont_solver *s, const double *y0, double p0,
         ci_flush_stats(s, t0, 0);
         return ci_fail(s, CONT_ENUMERIC, "cont_start_tangent: %s", s->why);
     }
-    double fs = 0.0;
-    for (long i = 0; i < n; i++) fs = fmax(fs, fabs(s->w1[i] * NV_Ith_S(s->fscale, i)));
+    double fs = ci_fscaled_max(s, s->w1, n);
     fn = s->last_fnorm;
     if (fs > s->ftol) {
         double *anchor = malloc((size_t)m * sizeof(double));
