@@ -7,6 +7,10 @@
 # path's end to 1e-8 relative); the uniform driving of the periodic sheet
 # gives a periodic state (all straight folds one |angle|, all zigzag folds
 # another); asking for it in fold coordinates is a one-line error.
+# On the 4x4 sheet the first-order response leads to a stable limit state
+# of higher energy (the first and last zigzag columns flat); the start
+# from the rigid vertex modes finds the uniform Miura motion, lower, and
+# the start follows the lowest limit state it found (test 7).
 # Under gravity and a tip load (where the dense cone start finds no
 # branch) and on an 8x8 sheet (first point only) every interior vertex
 # obeys the closed form of a rigid flat-foldable degree-4 vertex
@@ -24,7 +28,7 @@ nok() { i=$((i + 1)); echo "not ok $i - $1"; }
 # the last row of branch.tsv, from column $2 on (1-based), tab separated
 last() { awk -F'\t' -v c="$2" '/^#/ || $1 == "point" {next} {r = $c; for (k = c + 1; k <= NF; k++) r = r "\t" $k} END {print r}' "$1"; }
 col() { awk -F'\t' -v c="$2" '/^#/ {next} !h {for (k = 1; k <= NF; k++) if ($k == c) n = k; h = 1; next} {v = $n} END {print v}' "$1"; }
-echo "1..6"
+echo "1..7"
 
 # 1-2: sparse start (poses) against the dense cone start (folds)
 compare() {   # m, end
@@ -128,9 +132,11 @@ sh "$src/bench/miura-study.sh" 8 >"$tmp/m8.cfg"
 "$bin" run "$tmp/m8.cfg" -q -o "$tmp/s8" --set 'solver.formulation="poses"' --set 'analysis.flat_start="sparse"' \
     --set analysis.max_steps=1 --set analysis.stability=false >"$tmp/s8.out" 2>&1
 c=$(crease "$tmp/s8/branch.tsv" 8 0)
-# the limit problem's Newton iterations (both starts; 438 before the
-# mirror start kept the solution's poses and multipliers) and the first
-# point's loop-closure residual (the `residual` column)
+# the limit problem's Newton iterations (all starts: the first-order
+# response, the rigid vertex modes, the mirror; 438 before the mirror start
+# kept the solution's poses and multipliers, 36 for two starts, 58 for the
+# three now) and the first point's loop-closure residual (the `residual`
+# column)
 lim=$(sed -n 's/^# flat start (sparse):.* \([0-9][0-9]*\) Newton iterations, \([0-9][0-9]*\) MUMPS factorisations.*/\1 \2/p' "$tmp/s8/branch.tsv")
 r1=$(awk -F'\t' '/^#/ {next} !h {for (k = 1; k <= NF; k++) if ($k == "residual") rc = k; h = 1; next}
                  $4 > 0 {print $rc; exit}' "$tmp/s8/branch.tsv")
@@ -141,4 +147,40 @@ if grep -q '^# flat start (sparse): the driving' "$tmp/s8/branch.tsv" &&
     ok "miura 8x8: first point of the sparse start, rigid vertices (worst deviation, mode II, mode I, largest angle, rows: $c); limit problem in $lim Newton iterations / factorisations, first point's residual $r1"
 else
     nok "miura 8x8: vertices '$c', limit problem '$lim', first point's residual '$r1'"; sed 's/^/#   /' "$tmp/s8.out" | head -3
+fi
+
+# 7: the 4x4 sheet: the limit states the start found are listed with their
+# energies; the one followed is the lowest of them (to the start's tie
+# tolerance, 1e-7 relative) and strictly below the first-order response's; it is the uniform Miura motion (every one of the
+# 49 interior vertices rigid in mode II, all straight folds at one |angle|,
+# all zigzag folds at another, to 1e-7), and its mirror in the mode
+# amplitudes ties (the symmetric-start report).  Main at c99cbac followed
+# the first-order response's state (14 vertices in mode I).
+sh "$src/bench/miura-study.sh" 4 >"$tmp/m4.cfg"
+"$bin" run "$tmp/m4.cfg" -q -o "$tmp/s4" --set 'solver.formulation="poses"' --set 'analysis.flat_start="sparse"' \
+    --set analysis.max_steps=1 --set analysis.stability=false >"$tmp/s4.out" 2>&1
+b="$tmp/s4/branch.tsv"
+hd=$(grep '^# flat start (sparse)' "$b")
+# "first-order response E1, rigid vertex modes E2 (followed), mirror in the modes E3"
+en=$(echo "$hd" | sed -n 's/.*limit states found: \([^;]*\);.*/\1/p' |
+     awk -F', ' '{for (k = 1; k <= NF; k++) {n = split($k, w, " "); f = ($k ~ /\(followed\)/)
+                                            e = f ? w[n - 1] : w[n]; printf "%s%s%s", (k > 1 ? " " : ""), (f ? "*" : ""), e}}')
+ord=$(echo "$en" | awk '{fo = ""; for (k = 1; k <= NF; k++) if ($k ~ /^\*/) fo = substr($k, 2) + 0
+                         if (fo == "" || NF < 3) {print "bad"; exit}
+                         bad = 0; for (k = 1; k <= NF; k++) {e = $k; sub(/^\*/, "", e); if (e + 0 < fo - 1e-7 * (-fo)) bad = 1}
+                         first = $1; sub(/^\*/, "", first); first += 0
+                         mir = $NF; sub(/^\*/, "", mir); mir += 0; d = (mir - fo) / fo; if (d < 0) d = -d
+                         printf "%s %s %.3g %d\n", fo, first, d, !bad && fo < first - 1e-6 * (-fo) && d <= 1e-7}')
+c=$(crease "$b" 4 0)
+spread=$(awk -F'\t' '/^#/ {next} !h {for (k = 1; k <= NF; k++) if ($k == "theta1") t = k; h = 1; next}
+         $4 > 0 {for (k = t; k <= NF; k++) {v = $k < 0 ? -$k : $k; g = (k - t) < 56 ? 1 : 2
+                 if (!(g in lo) || v < lo[g]) lo[g] = v; if (!(g in hi) || v > hi[g]) hi[g] = v}
+                 printf "%.3g %.3g\n", (hi[1] - lo[1]) / hi[1], (hi[2] - lo[2]) / hi[2]; exit}' "$b")
+if echo "$hd" | grep -q 'the driving selects no single branch' &&
+   echo "$ord" | awk '{exit !($4 == 1)}' &&
+   echo "$c" | awk '{exit !($1 <= 1e-8 && $2 == 49 && $3 == 0 && $4 > 0.01 && $5 >= 1)}' &&
+   echo "$spread" | awk '{exit !($1 <= 1e-7 && $2 <= 1e-7)}'; then
+    ok "miura 4x4: follows the lowest limit state found (followed, first-order response's, mirror's relative difference: $ord; candidates: $en), the uniform Miura motion (vertices: $c; straight and zigzag spreads $spread)"
+else
+    nok "miura 4x4: candidates '$en', order '$ord', vertices '$c', spreads '$spread'"; echo "$hd" | cut -c1-400 | sed 's/^/#   /'
 fi

@@ -30,17 +30,23 @@
  * constraints' tangent space and a shift on the x block makes the step
  * descend; a converged saddle is pushed off by a pseudo-random
  * perturbation (fixed seeds).  delta (tiny) selects the minimum-norm z.
- * A second start, the solution with its mode amplitudes negated (its
- * other unknowns kept as the first guess, a small iteration budget),
- * tells a symmetric start (a distinct solution of equal energy) from a
- * selected one. */
+ * The problem has several stable local minima on a tessellation (the 4x4
+ * Miura sheet and up): a second start, the rigid-origami motion of the
+ * degree-4 vertices (flatrigid.h, warm from the first solution), gives
+ * the lower one where the first-order response leads to a higher one;
+ * the lower of the two is kept.  A last start, that state with its mode
+ * amplitudes negated (its other unknowns kept as the first guess, a small
+ * iteration budget), tells a symmetric start (a distinct solution of
+ * equal energy) from a selected one. */
 #include "flatlimit_sparse.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "equilibrium_poses.h"
+#include "flatrigid.h"
 #include "ldlt.h"
 #include "poses.h"
 
@@ -49,9 +55,11 @@
 #define ETA0 1e-8
 #define NSTAGES 3
 #define MAXIT 250        /* Newton iterations per stage (16x16 Miura: 206, both starts) */
+#define MAXIT_RIGID 40   /* the same for the rigid start (stage 1: 16 to 27 where it converged) */
 #define MAXIT_MIRROR 30   /* the same for the mirror start (about 10 where it is a solution) */
 #define MAXPUSH 6
 #define CAP 1.0          /* fold coordinates move by at most CAP |x| per step */
+#define SHIFT_DECAY 16.0 /* first try of the inertia shift: the last one that worked / this */
 
 typedef struct lim_ws {
     sf_equil *q;
@@ -355,11 +363,15 @@ static int lw_stage(lim_ws *L, double *w, double eta, double tol, int maxit, int
             it--;
             continue;
         }
-        /* the inertia correction: the first try is a quarter of the last
-         * shift that worked (0 once it has fallen below 4e-6), then 4 times
-         * more until the inertia is right (one factorisation per iteration
-         * where the shift changes slowly, instead of trying 0 every time) */
-        double shift = L->last_shift >= 4e-6 ? 0.25 * L->last_shift : 0.0;
+        /* the inertia correction: the first try is the last shift that
+         * worked divided by SHIFT_DECAY (0 once it has fallen below
+         * 1e-6 SHIFT_DECAY), then 4 times more until the inertia is right
+         * (one factorisation per iteration where the shift changes slowly,
+         * instead of trying 0 every time).  With a quarter (the former
+         * rule) a shift that had grown to 67 in the first stage's crawl
+         * took about 12 iterations of damped steps to fall back to 0 once
+         * the inertia no longer needed it (docs/flatstart.md) */
+        double shift = L->last_shift >= 1e-6 * SHIFT_DECAY ? L->last_shift / SHIFT_DECAY : 0.0;
         for (int k = 0; k < 40; k++) {
             if (lw_shifted(L, shift, &neg, err)) return -1;
             if (neg <= target) break;
@@ -459,6 +471,51 @@ static int candidate(lim_ws *L, const double *start, int nstart, double rel, int
     return rc ? 1 : 0;
 }
 
+/* The start of the limit problem from the rigid modes (2 n values of w),
+ * warm from the solution ws of the first start (its scale, its mode
+ * amplitudes, multipliers and z): the fold angles of rigid_modes, signed
+ * by the driving b (the folds it does not move by u), scaled to ws's
+ * largest fold angle; each fold's mode amplitudes those of ws times the
+ * ratio of the fold angles (0 where ws leaves the fold near flat or turns
+ * it the other way); the poses of that motion; mu, z and nu of ws.  From
+ * zero mode amplitudes and multipliers Newton halved the fold angles and
+ * ended at a penalty-locked state on the 12x12 Miura sheet
+ * (docs/flatstart.md).  0 when there is no such start. */
+static int rigid_start(lim_ws *L, const double *u, const double *ws, double *st, double *ybuf)
+{
+    sf_equil *q = L->q;
+    const sf_model *m = q->m;
+    int n = L->n, nf = L->nf, nx = L->nx;
+    memset(st, 0, sizeof(double) * 2 * (size_t)n);
+    double E;
+    sf_error e;
+    sf_error_clear(&e);
+    if (lw_energy(L, st, &E, &e)) return 0;   /* fills L->b, the driving */
+    if (!sf_flat_rigid_modes(m, u, L->b, st)) return 0;
+    double xs = fold_max(L, ws), xr = fold_max(L, st);
+    if (!(xs > 0 && xr > 0)) return 0;
+    for (int i = 0; i < m->nfolds; i++) {
+        double *t = st + m->qoff[i], ts = ws[m->qoff[i]];
+        *t *= xs / xr;
+        double ratio = fabs(ts) > 0.1 * xs && *t * ts > 0 ? *t / ts : 0.0;
+        for (int k = 1; k < m->qn[i]; k++) t[k] = ratio * ws[m->qoff[i] + k];
+    }
+    /* the poses of the motion to first order: the tree maps' poses at
+     * +-tt times it (a central difference of sf_poses_from_folds; a first
+     * guess only, which Newton corrects: the first-order rows J x = 0 are
+     * linear).  The poses of ws instead led back to ws's state. */
+    double tt = 1e-6 / xs;
+    for (int sg = -1; sg <= 1; sg += 2) {
+        memcpy(ybuf, L->y0, sizeof(double) * (size_t)n);
+        for (int i = 0; i < nf; i++) ybuf[i] += sg * tt * st[i];
+        if (sf_equil_poses_lift(q, ybuf)) return 0;
+        for (int i = nf; i < nx; i++) st[n + i] += sg * ybuf[i];   /* scratch: the z half */
+    }
+    for (int i = nf; i < nx; i++) st[i] = st[n + i] / (2.0 * tt);
+    memcpy(st + nx, ws + nx, sizeof(double) * (size_t)(2 * n - nx));   /* mu, z, nu */
+    return 1;
+}
+
 int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double *u, double imperf,
                          int mirror, double *w, sf_flatlimit_info *info, sf_error *err)
 {
@@ -488,21 +545,17 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
     info->converged = 1;
     info->stable = 1;
     info->energy_alt = NAN;   /* candidate() cleared info */
-    if (mirror) {
-        /* the mirror in the modes: the solution with its mode amplitudes
-         * negated, every other unknown (poses, mu, z, nu) kept as a first
-         * guess.  Where the mirror is a solution too (a symmetric start)
-         * Newton reaches it in about ten iterations; from poses and
-         * multipliers set to zero it wandered (132 iterations on the 5x5
-         * Miura sheet, 420 without convergence on the 8x8 one) and ended
-         * elsewhere.  Hence a small budget: a mirror that does not
-         * converge within it is not a tie. */
-        memcpy(st, w, sizeof(double) * 2 * (size_t)n);
-        for (int i = 0; i < m->nfolds; i++)
-            for (int k = 1; k < m->qn[i]; k++) st[m->qoff[i] + k] = -w[m->qoff[i] + k];
+    info->ncand = 1;
+    info->cand_kind[0] = SF_LIMIT_FIRST;
+    info->cand_conv[0] = 1;
+    info->cand_energy[0] = info->energy;
+    /* the rigid-origami start (rigid_modes): another local minimum of the
+     * limit problem where the first-order response leads to a state of
+     * higher energy (docs/flatstart.md, the 4x4 Miura sheet) */
+    if (rigid_start(&L, u, w, st, wc)) {
         sf_error_clear(&ce);
-        r = candidate(&L, st, 2 * n, 0.0, MAXIT_MIRROR, wc, &ci, &ce);
-        info->starts = 2;
+        r = candidate(&L, st, 2 * n, imperf, MAXIT_RIGID, wc, &ci, &ce);
+        info->starts++;
         info->iterations += ci.iterations;
         info->pushes += ci.pushes;
         if (r < 0) {
@@ -510,21 +563,63 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
             rc = ce.code;
             goto out;
         }
+        int k = info->ncand++;
+        info->cand_kind[k] = SF_LIMIT_RIGID;
+        info->cand_conv[k] = !r;
+        info->cand_energy[k] = NAN;
         if (!r) {
-            info->converged = 2;
+            info->converged++;
+            info->cand_energy[k] = ci.energy;
+            /* strictly lower (beyond the tie tolerance): followed */
+            if (ci.energy < info->energy - 1e-7 * fabs(info->energy)) {
+                info->energy = ci.energy;
+                info->chosen = k;
+                memcpy(w, wc, sizeof(double) * 2 * (size_t)n);
+            }
+        }
+    }
+    if (mirror) {
+        /* the mirror in the modes of the state chosen so far: its mode
+         * amplitudes negated, every other unknown (poses, mu, z, nu) kept
+         * as a first guess.  Where the mirror is a solution too (a
+         * symmetric start) Newton reaches it in about ten iterations;
+         * from poses and multipliers set to zero it wandered (132
+         * iterations on the 5x5 Miura sheet, 420 without convergence on
+         * the 8x8 one) and ended elsewhere.  Hence a small budget: a
+         * mirror that does not converge within it is not a tie. */
+        memcpy(st, w, sizeof(double) * 2 * (size_t)n);
+        for (int i = 0; i < m->nfolds; i++)
+            for (int k = 1; k < m->qn[i]; k++) st[m->qoff[i] + k] = -w[m->qoff[i] + k];
+        sf_error_clear(&ce);
+        r = candidate(&L, st, 2 * n, 0.0, MAXIT_MIRROR, wc, &ci, &ce);
+        info->starts++;
+        info->iterations += ci.iterations;
+        info->pushes += ci.pushes;
+        if (r < 0) {
+            *err = ce;
+            rc = ce.code;
+            goto out;
+        }
+        int k = info->ncand++;
+        info->cand_kind[k] = SF_LIMIT_MIRROR;
+        info->cand_conv[k] = !r;
+        info->cand_energy[k] = NAN;
+        if (!r) {
+            info->converged++;
             double dx = 0.0, xm = fold_max(&L, w);
             for (int i = 0; i < m->nq; i++) dx = fmax(dx, fabs(wc[i] - w[i]));
             info->xdiff = xm > 0 ? dx / xm : 0.0;
             /* a distinct state off the flat sheet */
             if (info->xdiff > 1e-6 && fold_max(&L, wc) > 1e-3 * xm) {
+                info->cand_energy[k] = ci.energy;
                 info->energy_alt = ci.energy;
                 info->ties = fabs(ci.energy - info->energy) <= 1e-7 * fabs(info->energy);
-                /* the lower energy; of two equal ones, the first start's
-                 * (the one the declared imperfection leads to) */
+                /* the lower energy; of two equal ones, the state chosen
+                 * before (the one the declared imperfection leads to) */
                 if (!info->ties && ci.energy < info->energy) {
                     info->energy_alt = info->energy;
                     info->energy = ci.energy;
-                    info->chosen = 1;
+                    info->chosen = k;
                     memcpy(w, wc, sizeof(double) * 2 * (size_t)n);
                 }
             }

@@ -11,8 +11,9 @@
  * stationarity of x^T H0 x / 2 + b . x on the tangent cone of the
  * constraints.  The driving's branch is a local minimum of it; Newton
  * (with an inertia correction) reaches one from the first-order response.
- * Which one: the nearest, not necessarily the lowest (docs/flatstart.md,
- * the 4x4 Miura sheet). */
+ * Newton reaches the nearest one, not necessarily the lowest (the 4x4
+ * Miura sheet, docs/flatstart.md): sf_flat_limit_sparse tries a few starts
+ * and keeps the lowest state found, which is not a global guarantee. */
 #ifndef SF_FLATLIMIT_SPARSE_H
 #define SF_FLATLIMIT_SPARSE_H
 
@@ -30,20 +31,32 @@ typedef struct sf_flatlimit_info {
     double residual;    /* final scaled residual */
     int factorisations;  /* MUMPS LDL^T factorisations, all starts */
     int starts, converged;  /* candidate starts tried, converged */
-    int chosen;         /* 0: from the first-order response, 1: its mirror in the modes */
+    int chosen;         /* the candidate followed (index into cand_*) */
+    /* the starts tried, in order (SF_LIMIT_FIRST, SF_LIMIT_RIGID,
+     * SF_LIMIT_MIRROR): cand_conv 1 when Newton converged within its
+     * budget (a stable limit state: the inertia is checked), and then its
+     * energy, NAN when the mirror came back to the state it started from */
+    int ncand;
+    int cand_kind[3], cand_conv[3];
+    double cand_energy[3];
 } sf_flatlimit_info;
+
+enum { SF_LIMIT_FIRST, SF_LIMIT_RIGID, SF_LIMIT_MIRROR };
 
 /* Solve the limit problem at the flat state y0 (q->n values, poses
  * lifted), p0, from the first-order response u (sf_flat_direction).
  * w receives 2 q->n values: (x, mu) then (z, nu) in the layout of y
  * (coordinates, then constraint rows).  imperf: the declared imperfection
  * of the mode amplitudes (every shape-mode amplitude of the start moved
- * by imperf times the largest fold angle of u; 0 for none); when mirror
- * is set, the solution with its mode amplitudes negated is solved from
- * too (from the solution with its other unknowns, at most 30 Newton
- * iterations per stage): a distinct solution of equal energy sets
- * info->ties (the first start's solution is kept), a lower one replaces
- * the first.  SF_OK, SF_ENUMERIC (no convergence, with the numbers),
+ * by imperf times the largest fold angle of u; 0 for none).  Starts: u;
+ * then, on patterns with degree-4 interior vertices, the rigid-origami
+ * motion of their closed-form modes (warm from the first solution, at
+ * most 40 Newton iterations per stage), kept when its energy is lower by
+ * more than 1e-7 relative; when mirror is set, the state kept with its
+ * mode amplitudes negated (its other unknowns as the first guess, at most
+ * 30 iterations per stage): a distinct solution of equal energy (1e-7)
+ * sets info->ties (the state kept before stays), a lower one replaces
+ * it.  SF_OK, SF_ENUMERIC (no convergence, with the numbers),
  * SF_ENOMEM. */
 int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double *u, double imperf,
                          int mirror, double *w, sf_flatlimit_info *info, sf_error *err);

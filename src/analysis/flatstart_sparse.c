@@ -390,32 +390,44 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
                                                   "sign";
         info->iterations = its;
         info->residual = fmax(rr, rt);
-        char lnote[600];
-        if (lim && li.ties)
-            snprintf(lnote, sizeof lnote, "the driving selects no single branch: the limit "
-                     "problem from the first-order response and from its solution with the mode "
-                     "amplitudes negated ends on two states of equal energy %.9g (a symmetric "
-                     "start; %d Newton iterations, %d MUMPS factorisations); following the first, "
-                     "the one the declared imperfection -1e-2 of the mode amplitudes leads to",
-                     li.energy, li.iterations, li.factorisations);
-        else if (lim) {
-            /* energy_alt is NAN when the other start found no state: say so in words */
-            char alt[64];
-            if (isfinite(li.energy_alt))
-                snprintf(alt, sizeof alt, "other start %.9g", li.energy_alt);
-            else
-                snprintf(alt, sizeof alt, "the other start found no state");
-            snprintf(lnote, sizeof lnote, "the driving's branch from the sparse limit problem "
-                     "(%d starts, %d Newton iterations, %d MUMPS factorisations, %d saddles left; "
-                     "limit energy %.9g, %s)", li.starts, li.iterations,
-                     li.factorisations, li.pushes, li.energy, alt);
+        char lnote[900], cands[300] = "";
+        if (lim) {
+            /* every limit state found, with its energy (J per unit p^2) */
+            static const char *kind[] = {"first-order response", "rigid vertex modes",
+                                         "mirror in the modes"};
+            size_t o = 0;
+            for (int k = 0; k < li.ncand && o < sizeof cands; k++) {
+                const char *sep = k ? ", " : "", *nm = kind[li.cand_kind[k]];
+                const char *fol = k == li.chosen ? " (followed)" : "";
+                if (isfinite(li.cand_energy[k]))
+                    o += (size_t)snprintf(cands + o, sizeof cands - o, "%s%s %.9g%s", sep, nm,
+                                          li.cand_energy[k], fol);
+                else
+                    o += (size_t)snprintf(cands + o, sizeof cands - o, "%s%s: %s", sep, nm,
+                                          li.cand_conv[k] ? "the same state"
+                                                          : "no convergence within its budget");
+            }
         }
+        if (lim && li.ties)
+            snprintf(lnote, sizeof lnote, "the driving selects no single branch: the lowest "
+                     "limit state found and its mirror in the mode amplitudes have equal energy "
+                     "%.9g (a symmetric start; limit states found: %s; %d starts, %d Newton "
+                     "iterations, %d MUMPS factorisations); following the first of the two, the "
+                     "one the declared imperfection -1e-2 of the mode amplitudes leads to (the "
+                     "lowest of the states found, not a global guarantee)", li.energy, cands,
+                     li.starts, li.iterations, li.factorisations);
+        else if (lim)
+            snprintf(lnote, sizeof lnote, "the driving's branch from the sparse limit problem "
+                     "(%d starts, %d Newton iterations, %d MUMPS factorisations, %d saddles "
+                     "left; limit energy %.9g; limit states found: %s; the lowest of the states "
+                     "found, not a global guarantee)", li.starts, li.iterations,
+                     li.factorisations, li.pushes, li.energy, cands);
         else
             snprintf(lnote, sizeof lnote, "the sparse limit problem failed (%.200s): the "
                      "driving's first-order response with a declared imperfection (every mode "
                      "amplitude -1e-2 times the largest fold angle)", lerr.msg);
         snprintf(info->note, sizeof info->note,
-                 "flat start (sparse): %.500s; a step of %.3g in p, %d Newton iterations, first "
+                 "flat start (sparse): %.700s; a step of %.3g in p, %d Newton iterations, first "
                  "point at p = %.6g, largest fold angle %.4g rad, fold-row residual %.2g, %d step "
                  "halvings%s", lnote, h, its, pt->p, max_angle(m, pt->y), fmax(rr, rt), halvings,
                  signs);

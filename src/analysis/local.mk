@@ -9,6 +9,7 @@ src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibri
 	src/analysis/flatcone_rays.c src/analysis/flatcone_impl.h \
 	src/analysis/flatstart_sparse.c src/analysis/flatstart_sparse.h \
 	src/analysis/flatlimit_sparse.c src/analysis/flatlimit_sparse.h \
+	src/analysis/flatrigid.c src/analysis/flatrigid.h \
 	src/analysis/reactions.c src/analysis/reactions.h \
 	src/analysis/mobility.c src/analysis/mobility.h src/analysis/mobility_sparse.c \
 	src/analysis/compare.c src/analysis/compare.h src/analysis/compare_impl.h \
