@@ -48,27 +48,45 @@ size_t sf_poses_work_size(const sf_poses *P)
 /* ------------------------------------------------------------ rotations */
 
 /* A = sin t / t, B = (1 - cos t) / t^2 as functions of s = t^2, with their
- * first and second derivatives in s: c = (A, A', A'', B, B', B''). */
+ * first and second derivatives in s: c = (A, A', A'', B, B', B'').  For
+ * s < 4 (t < 2) by their power series, A = sum (-s)^k / (2k+1)!,
+ * B = sum (-s)^k / (2k+2)!, in Horner form; ROD_TERMS terms leave a
+ * truncation below 4^20 / 41! ~ 3e-38 of the leading term. */
+#define ROD_TERMS 20
+static const double rod_ca[ROD_TERMS] = {   /* (-1)^k / (2k+1)! */
+    1.0, -0.16666666666666666, 0.008333333333333333, -0.0001984126984126984,
+    2.7557319223985893e-06, -2.505210838544172e-08, 1.6059043836821613e-10,
+    -7.647163731819816e-13, 2.8114572543455206e-15, -8.22063524662433e-18,
+    1.9572941063391263e-20, -3.868170170630684e-23, 6.446950284384474e-26,
+    -9.183689863795546e-29, 1.1309962886447716e-31, -1.216125041553518e-34,
+    1.151633562077195e-37, -9.67759295863189e-41, 7.265460179153071e-44,
+    -4.902469756513544e-47
+};
+static const double rod_cb[ROD_TERMS] = {   /* (-1)^k / (2k+2)! */
+    0.5, -0.041666666666666664, 0.001388888888888889, -2.48015873015873e-05,
+    2.755731922398589e-07, -2.08767569878681e-09, 1.1470745597729725e-11,
+    -4.779477332387385e-14, 1.5619206968586225e-16, -4.110317623312165e-19,
+    8.896791392450574e-22, -1.6117375710961184e-24, 2.4795962632247976e-27,
+    -3.279889237069838e-30, 3.7699876288159054e-33, -3.8003907548547434e-36,
+    3.387157535521162e-39, -2.6882202662866363e-42, 1.911963205040282e-45,
+    -1.2256174391283858e-48
+};
+
 static void rod_coef(double s, double c[6])
 {
     if (s < 4.0) {
         double A = 0, A1 = 0, A2 = 0, B = 0, B1 = 0, B2 = 0;
-        double fa = 1.0, fb = 0.5, sign = 1.0;   /* 1/(2k+1)!, 1/(2k+2)! */
-        double pk = 1.0, pk1 = 0.0, pk2 = 0.0;   /* s^k, s^(k-1), s^(k-2) */
-        for (int k = 0; k < 26; k++) {
-            double ca = sign * fa, cb = sign * fb;
-            A += ca * pk;
-            A1 += ca * k * pk1;
-            A2 += ca * k * (k - 1) * pk2;
-            B += cb * pk;
-            B1 += cb * k * pk1;
-            B2 += cb * k * (k - 1) * pk2;
-            pk2 = pk1;
-            pk1 = pk;
-            pk *= s;
-            fa /= (2.0 * k + 2) * (2.0 * k + 3);
-            fb /= (2.0 * k + 3) * (2.0 * k + 4);
-            sign = -sign;
+        for (int k = ROD_TERMS - 1; k >= 0; k--) {
+            A = A * s + rod_ca[k];
+            B = B * s + rod_cb[k];
+            if (k >= 1) {
+                A1 = A1 * s + k * rod_ca[k];
+                B1 = B1 * s + k * rod_cb[k];
+            }
+            if (k >= 2) {
+                A2 = A2 * s + k * (k - 1) * rod_ca[k];
+                B2 = B2 * s + k * (k - 1) * rod_cb[k];
+            }
         }
         c[0] = A; c[1] = A1; c[2] = A2; c[3] = B; c[4] = B1; c[5] = B2;
         return;
@@ -121,14 +139,18 @@ void sf_rodrigues(const double phi[3], double R[9], double dR[3][9], double d2R[
     mat_mul(K, K, K2);
     for (int i = 0; i < 9; i++) R[i] = (i % 4 == 0 ? 1.0 : 0.0) + c[0] * K[i] + c[3] * K2[i];
     if (!dR) return;
-    double E[3][9], EK[3][9];   /* E_a, E_a K + K E_a */
+    /* E_a = [e_a]x; with [u]x [v]x = v u^T - (u.v) I:
+     * EK_a = E_a K + K E_a = phi e_a^T + e_a phi^T - 2 phi_a I and
+     * E_a E_b + E_b E_a = e_b e_a^T + e_a e_b^T - 2 delta_ab I */
+    double E[3][9], EK[3][9];
     for (int a = 0; a < 3; a++) {
-        double e[3] = {0, 0, 0}, t1[9], t2[9];
+        double e[3] = {0, 0, 0};
         e[a] = 1.0;
         skew(e, E[a]);
-        mat_mul(E[a], K, t1);
-        mat_mul(K, E[a], t2);
-        for (int i = 0; i < 9; i++) EK[a][i] = t1[i] + t2[i];
+        for (int r = 0; r < 3; r++)
+            for (int q = 0; q < 3; q++)
+                EK[a][3 * r + q] = (q == a ? phi[r] : 0.0) + (r == a ? phi[q] : 0.0) -
+                                   (r == q ? 2.0 * phi[a] : 0.0);
     }
     for (int a = 0; a < 3; a++)
         for (int i = 0; i < 9; i++)
@@ -137,10 +159,11 @@ void sf_rodrigues(const double phi[3], double R[9], double dR[3][9], double d2R[
     if (!d2R) return;
     for (int a = 0; a < 3; a++)
         for (int b = 0; b < 3; b++) {
-            double EE[9], t1[9], t2[9], d = a == b ? 1.0 : 0.0;
-            mat_mul(E[a], E[b], t1);
-            mat_mul(E[b], E[a], t2);
-            for (int i = 0; i < 9; i++) EE[i] = t1[i] + t2[i];
+            double EE[9], d = a == b ? 1.0 : 0.0;
+            for (int r = 0; r < 3; r++)
+                for (int q = 0; q < 3; q++)
+                    EE[3 * r + q] = (r == b && q == a ? 1.0 : 0.0) + (r == a && q == b ? 1.0 : 0.0) -
+                                    (r == q ? 2.0 * d : 0.0);
             for (int i = 0; i < 9; i++)
                 d2R[3 * a + b][i] =
                     (4.0 * c[2] * phi[a] * phi[b] + 2.0 * c[1] * d) * K[i] +
