@@ -397,7 +397,7 @@ static void test_equilibrium_jacobian(void **state)
 
 /* The displacement parameter as the study selects it (analysis.parameter,
  * analysis.probe, analysis.component read through the study accessors as
- * src/cli/run.c does): the prescribed row is the probe's component minus p. */
+ * src/cli/run_equilibrium.c does): the prescribed row is the probe's component minus p. */
 static void test_displacement_row(void **state)
 {
     (void)state;

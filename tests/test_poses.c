@@ -296,7 +296,7 @@ static void check_agree(const agree_case *c, const char *sdir)
             fail();
         }
     } else {
-        /* as src/cli/run.c: from the rest angles, else from the flat sheet */
+        /* as src/cli/run_equilibrium.c: from the rest angles, else from the flat sheet */
         sf_equil_set_param(&fq, start);
         for (int i = 0; i < m->nfolds; i++) y0[m->qoff[i]] = fq.par.rest[i];
         if (cont_start(fs, y0, start, dir) != CONT_OK) {

@@ -1,5 +1,6 @@
-/* test_validation.c - whole equilibrium paths, run as src/cli/run.c runs them
- * (sf_equil + the continuation engine with a point callback), against the
+/* test_validation.c - whole equilibrium paths, run as
+ * src/cli/run_equilibrium.c runs them (sf_equil + the continuation engine
+ * with a point callback), against the
  * reference data of ../shared/data (CASES.md, data/README.md):
  *   strip3      against the paper's own code (the finite-element
  *               comparisons are in studies/strip3.cfg, checked by
@@ -96,7 +97,7 @@ static double csv_at(const csv *c, int row, int col) { return c->v[(size_t)row *
 static void csv_free(csv *c) { free(c->v); memset(c, 0, sizeof *c); }
 
 /* ------------------------------------------------------------------------
- * Running a path as src/cli/run.c does
+ * Running a path as src/cli/run_equilibrium.c does
  * ------------------------------------------------------------------------ */
 
 typedef struct path {
@@ -229,7 +230,7 @@ static void run_path(path *P, const char *study, int nset, const char **sets, co
     assert_non_null(y0);
     int rc;
     if (eq->nloop > 0 && scaled_residual(P, y0, P->start) <= 1e-14) {
-        /* the flat state: report it, start one step further (src/cli/run.c) */
+        /* the flat state: report it, start one step further (src/cli/run_equilibrium.c) */
         add_point(P, y0, P->start);
         double p1 = P->start + dir * fmin(step, 0.25 * fabs(P->end - P->start));
         penalty_homotopy(P, p1, y0);

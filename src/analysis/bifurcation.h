@@ -20,7 +20,7 @@
  * bifurcation equations of multibp.h).  A change that
  * cannot be located is stated in a note.
  *
- * The caller (src/cli/run.c) owns the output: located points go back to it
+ * The caller (src/cli/run_point.c, run_stability.c) owns the output: located points go back to it
  * through hooks, as do notes.  Enters: the equilibrium problem and its
  * stability (equilibrium.h, stability.h), the path's points (cont.h).
  * Leaves: located points, notes, the branch numbering. */

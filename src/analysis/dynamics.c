@@ -350,7 +350,7 @@ static int initial_state(sf_dyn *d, sf_error *err)
                          p0, cont_errmsg(cs));
         }
     } else {
-        /* the rest angles first (see run.c), then the flat sheet */
+        /* the rest angles first (see src/cli/run_equilibrium.c), then the flat sheet */
         for (int i = 0; i < d->m->nfolds; i++) y[d->m->qoff[i]] = eq->par.rest[i];
         rc = cont_solve_fixed(cs, y, p0);
         if (rc != CONT_OK) {

@@ -1,0 +1,280 @@
+/* run_point.c - `smoothfold run`, one solved point of the equilibrium path:
+ * its stability, the Morse-index check and branch-point refinement
+ * (bifurcation.h), and its rows of branch.tsv, special.tsv and stats.csv, its
+ * shape, its reference comparison and its progress line. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "equilibrium_poses.h"
+#include "run_impl.h"
+
+/* Probe displacements of a state. */
+static void probe_disp(run_ctx *r, const double *y, int i, double u[3])
+{
+    double x[3];
+    sf_point_eval(r->eq.m, &r->eq.k, &r->probes[i], x, NULL);
+    u[0] = x[0] - r->probes[i].X[0];
+    u[1] = x[1] - r->probes[i].X[1];
+    u[2] = x[2];
+    (void)y;
+}
+/* Note on a branch, for the headers of branch.tsv and on the terminal. */
+void run_branch_note(run_ctx *r, const char *fmt, ...)
+{
+    char line[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    sf_outbuf_printf(&r->bnotes, "# %s\n", line);
+    if (!r->opt->quiet) fprintf(stderr, "%s\n", line);
+}
+
+/* Stability columns (stable, morse, eig1..eigN) of a row; empty fields
+ * where there is no value (stability off, or fewer eigenvalues). */
+static void stab_fields(run_ctx *r, sf_outbuf *b)
+{
+    const sf_stab_result *R = &r->stab.res;
+    if (!r->do_stab) {
+        sf_outbuf_printf(b, "\t\t");
+        for (int i = 0; i < r->nev; i++) sf_outbuf_printf(b, "\t");
+        return;
+    }
+    if (R->stable < 0) sf_outbuf_printf(b, "\t\t%d", R->morse); /* unknown: empty */
+    else sf_outbuf_printf(b, "\t%d\t%d", R->stable, R->morse);
+    for (int i = 0; i < r->nev; i++) {
+        if (i < R->neig && isfinite(R->eig[i])) sf_outbuf_printf(b, "\t%.13g", R->eig[i]);
+        else sf_outbuf_printf(b, "\t");
+    }
+}
+
+/* Every number of the point's rows is finite, checked before any of them is
+ * written (outbuf.h, sf_need_finite); else SF_ENUMERIC naming the quantity,
+ * the row and p, and the run stops with the rows before it. */
+static int check_point(run_ctx *r, const cont_point *pt, double sarc, double load, const double e[3])
+{
+    sf_error *err = r->err;
+    const sf_model *m = r->eq.m;
+    const sf_study *s = m->study;
+    long k = r->npoints;
+    if (sf_need_finite(err, pt->p, "p at row %ld (branch %d)", k, r->bif.branch)) return err->code;
+    const double *v[] = {&sarc, &load, &e[0], &e[1], &e[2], &pt->ds};
+    const char *what[] = {"arclength s", "load", "energy", "residual (rotation)", "residual (translation)",
+                          "step ds"};
+    for (int j = 0; j < 6; j++)
+        if (sf_need_finite(err, *v[j], "%s at row %ld (branch %d, p = %.10g)", what[j], k, r->bif.branch,
+                           pt->p))
+            return err->code;
+    for (int i = 0; i < s->nprobes; i++) {
+        double u[3];
+        probe_disp(r, pt->y, i, u);
+        for (int c = 0; c < 3; c++)
+            if (sf_need_finite(err, u[c], "probe %s u%c at row %ld (branch %d, p = %.10g)",
+                               s->probes[i].name, "xyz"[c], k, r->bif.branch, pt->p))
+                return err->code;
+    }
+    for (int i = 0; i < m->nfolds; i++)
+        if (sf_need_finite(err, pt->y[m->qoff[i]], "fold angle of fold %d at row %ld (branch %d, p = %.10g)",
+                           i + 1, k, r->bif.branch, pt->p))
+            return err->code;
+    for (int j = 0; j < r->eq.n; j++)
+        if (sf_need_finite(err, pt->y[j], "unknown %d of the state at row %ld (branch %d, p = %.10g)", j, k,
+                           r->bif.branch, pt->p))
+            return err->code;
+    if (pt->label[0] && strcmp(pt->label, "EP") != 0 &&
+        sf_need_finite(err, pt->loc_err, "location error of %s at row %ld (branch %d, p = %.10g)", pt->label,
+                       k, r->bif.branch, pt->p))
+        return err->code;
+    return SF_OK;
+}
+
+int run_on_point(const cont_point *pt, void *data)
+{
+    run_ctx *r = data;
+    if (r->skip_start) {
+        r->skip_start = 0;
+        return 0;
+    }
+    cont_point relabel;
+    int ends = strcmp(pt->label, "EP") == 0;   /* the last point of a branch */
+    r->branch_end = ends;
+    if (ends && fabs(pt->p - r->seg_end) <= 1e-9 && fabs(r->seg_end - r->p_end) > 1e-9) {
+        /* the end of a load stage inside the path is a regular point */
+        relabel = *pt;
+        relabel.label[0] = '\0';
+        pt = &relabel;
+    } else if (ends && fabs(pt->p - r->p_lo) > 1e-9 * (1 + fabs(r->p_lo)) &&
+               fabs(pt->p - r->p_hi) > 1e-9 * (1 + fabs(r->p_hi)) &&
+               fabs(pt->p - r->seg_end) > 1e-9) {
+        /* the engine ended the branch inside the range: analysis.max_steps
+         * (the only other stop rule here), not an end point */
+        relabel = *pt;
+        relabel.label[0] = '\0';
+        pt = &relabel;
+        if (!r->short_stop) {
+            r->short_stop = 1;
+            r->short_p = pt->p;
+            r->short_branch = r->bif.branch;
+        }
+    }
+    sf_equil *eq = &r->eq;
+    if (r->do_stab) {
+        if (sf_stab_eval(&r->stab, eq, pt->y, pt->p, r->err)) {
+            r->failed = 1;
+            return 1;
+        }
+        r->neig_method[r->stab.res.method]++;
+        r->neig_inertia += r->stab.res.method == SF_EIG_INERTIA && r->stab.res.neig > 0;
+        const sf_stab_result *S = &r->stab.res;
+        if (S->status != SF_SSTAB_OK)
+            run_branch_note(r, "stability at row %ld (branch %d, p = %.10g): %s after %d ARPACK "
+                        "attempt(s): %s", r->npoints, r->bif.branch, pt->p,
+                        S->status == SF_SSTAB_RETRIED ? "retried, converged"
+                        : S->stable < 0 ? "UNKNOWN" : "eigenvalues unknown, unstable by inertia",
+                        S->attempts, S->reason);
+        if (sf_bif_check(&r->bif, pt, r->s_offset, r->branch_first, r->err)) {
+            r->failed = 1;
+            return 1;
+        }
+        cont_point q;
+        double *ybuf = malloc(sizeof(double) * (size_t)eq->n);
+        if (ybuf && sf_bif_refine(&r->bif, pt, r->s_offset, r->branch_first, &q, ybuf)) {
+            int rc = run_write_point(r, &q);
+            free(ybuf);
+            return rc;
+        }
+        free(ybuf);
+        if (r->step_bound && pt->index >= 1 && pt->type == CONT_PT_REGULAR) {
+            /* two eigenvalue crossings predicted within the next step: end
+             * it between them (bifurcation.h, sf_bif_step_bound) */
+            double bnd = sf_bif_step_bound(&r->stab.res, &r->stab2, eq, pt, cont_get_ds(r->solver));
+            if (bnd > 0 && cont_set_next_step(r->solver, bnd) == CONT_OK) r->nbound++;
+        }
+    }
+    return run_write_point(r, pt);
+}
+
+/* One row of branch.tsv (and of special.tsv, stats.csv, the shapes, the
+ * comparison) for the solved point pt, whose stability is r->stab.res. */
+int run_write_point(run_ctx *r, const cont_point *pt)
+{
+    sf_equil *eq = &r->eq;
+    const sf_model *m = eq->m;
+    const sf_study *s = m->study;
+    double Pi, rr, rt;
+    sf_equil_report(eq, pt->y, pt->p, &Pi, &rr, &rt);
+    if (eq->pz && sf_peq_rows_dropped(eq)) {
+        double d = sf_peq_dropped_residual(eq, pt->y), tol = s->tolerance > 0 ? s->tolerance : 1e-10;
+        r->drop_max = fmax(r->drop_max, d);
+        if (!(d <= tol) && !r->drop_bad++)
+            run_branch_note(r, "row %ld (branch %d, p = %.10g): a dropped pose constraint row has "
+                        "residual %.3g, above the Newton tolerance %.3g: the kept rows do not "
+                        "imply it here (docs/formulations.md; solver.pose_rows = \"all\" keeps "
+                        "every row)", r->npoints, r->bif.branch, pt->p, d, tol);
+    }
+    double load = eq->param == SF_PARAM_LOAD ? pt->p : eq->load;
+    if (r->s_offset < 0) {
+        /* first point after a start off the flat state: the arclength
+         * from the flat state, in the norm of the path (q and p) */
+        double d2 = (pt->p - r->p_start) * (pt->p - r->p_start);
+        for (int j = 0; j < m->nq; j++) d2 += pt->y[j] * pt->y[j];   /* fold coordinates */
+        r->s_offset = sqrt(d2);
+    }
+    sf_outbuf *b = &r->rows;
+    double sarc = pt->s + r->s_offset;
+    const double e[3] = {Pi, rr, rt};
+    if (check_point(r, pt, sarc, load, e) ||
+        (eq->nsup && sf_reactions_add(&r->reac, eq, r->npoints, pt->y, pt->p, load, r->err))) {
+        r->failed = 1;
+        return 1;
+    }
+    sf_outbuf_printf(b, "%ld\t%d\t%.12g\t%.12g\t%.12g", r->npoints, r->bif.branch, sarc, pt->p, load);
+    double u0[3] = {0, 0, 0};
+    for (int i = 0; i < s->nprobes; i++) {
+        double u[3];
+        probe_disp(r, pt->y, i, u);
+        if (i == 0) memcpy(u0, u, sizeof u);
+        sf_outbuf_printf(b, "\t%.12g\t%.12g\t%.12g", u[0], u[1], u[2]);
+    }
+    sf_outbuf_printf(b, "\t%.12g\t%.3g\t%.3g\t%.3g\t%d", Pi, fmax(rr, rt), rr, rt, pt->newton_iters);
+    stab_fields(r, b);
+    sf_outbuf_printf(b, "\t%s", pt->label);
+    for (int i = 0; i < m->nfolds; i++) sf_outbuf_printf(b, "\t%.12g", pt->y[m->qoff[i]]);
+    sf_outbuf_printf(b, "\n");
+    cont_stats last;
+    memset(&last, 0, sizeof last);
+    if (r->solver) cont_get_stats(r->solver, &last, NULL);
+    sf_outbuf_printf(&r->stats, "%ld,%d,%.6g,%.6g,%d,%ld,%ld,%ld,%ld,%.6g,%ld\n", r->npoints, r->bif.branch,
+              pt->p, pt->ds, pt->newton_iters, last.nres, last.njac, last.retries, last.nlocate,
+              last.wall, last.nfactor);
+    int special = pt->label[0] && strcmp(pt->label, "EP") != 0;
+    if (special) {
+        sf_outbuf_printf(&r->special, "%ld\t%d\t%s\t%.12g\t%.12g", r->npoints, r->bif.branch, pt->label,
+                  pt->p, sarc);
+        for (int i = 0; i < s->nprobes; i++) {
+            double u[3];
+            probe_disp(r, pt->y, i, u);
+            sf_outbuf_printf(&r->special, "\t%.12g\t%.12g\t%.12g", u[0], u[1], u[2]);
+        }
+        stab_fields(r, &r->special);
+        sf_outbuf_printf(&r->special, "\t%.3g\n", pt->loc_err);
+        if (pt->index >= 0 && pt->loc_err > 1e-6 * (1.0 + fabs(pt->p)))
+            run_branch_note(r, "%s at row %ld (branch %d, p = %.10g) located only to within %.3g in "
+                        "arclength: the corrector left the branch while bisecting", pt->label,
+                        r->npoints, r->bif.branch, pt->p, pt->loc_err);
+        if (strncmp(pt->label, "BP", 2) == 0 && sf_bif_add_bp(&r->bif, pt, r->err)) {
+            r->failed = 1;
+            return 1;
+        }
+    }
+    /* shapes: the first and last point of each branch, every special
+     * point, every output.shape_every points, and whenever p has moved by
+     * shape_dp since the last shape (so a snap segment, where p hardly
+     * moves, still has its shapes) */
+    int want = r->nshapes > 0 &&
+               (r->branch_first || r->branch_end || special ||
+                (r->shape_every > 0 && r->npoints - r->last_shape_pt >= r->shape_every) ||
+                (r->shape_dp > 0 && fabs(pt->p - r->last_shape_p) >= r->shape_dp * (1 - 1e-9)));
+    r->branch_first = 0;
+    if (want) {
+        char rel[64], path[1200];
+        snprintf(rel, sizeof rel, "shapes/shape_%04ld.vtp", r->npoints);
+        snprintf(path, sizeof path, "%s/%s", r->dir, rel);
+        /* time in the .pvd: the row number (monotone along the branch,
+         * also where p turns back); p and the row are field data */
+        const char *fname[2] = {"p", "point"};
+        double fval[2] = {pt->p, (double)r->npoints};
+        if (sf_vtk_write_shape_fields(m, pt->y, s->samples, path, 2, fname, fval, r->err) ||
+            sf_pvd_add(&r->pvd, (double)r->npoints, rel, r->err) ||
+            sf_foldrec_add(&r->foldrec, pt->y, pt->p, load, r->do_stab ? r->stab.res.stable : -1,
+                           r->bif.branch, r->err)) {
+            r->failed = 1;
+            return 1;
+        }
+        r->last_shape_p = pt->p;
+        r->last_shape_pt = r->npoints;
+    }
+    if (r->cmp) {
+        /* reference comparison: points of each branch form their own block */
+        if (sf_compare_add(r->cmp, eq, r->probes, pt->y, pt->p, r->bif.branch, r->err)) {
+            r->failed = 1;
+            return 1;
+        }
+    }
+    if (!r->opt->quiet) {
+        fprintf(stderr, "point %4ld  p %-11.6g s %-10.4g newton %2d  |g| %-9.2g", r->npoints,
+                pt->p, sarc, pt->newton_iters, fmax(rr, rt));
+        if (s->nprobes) fprintf(stderr, "  %s uz %-11.5g", s->probes[0].name, u0[2]);
+        if (r->do_stab)
+            fprintf(stderr, "  %s", r->stab.res.stable < 0 ? "unknown "   /* see the note */
+                                    : r->stab.res.stable ? "stable  " : "unstable");
+        if (r->bif.nbranches > 1 || r->bif.max_depth > 0) fprintf(stderr, "  branch %d", r->bif.branch);
+        fprintf(stderr, "%s%s\n", pt->label[0] ? "  " : "", pt->label);
+    }
+    r->npoints++;
+    sf_bif_point_written(&r->bif, pt, sarc);
+    return 0;
+}
