@@ -151,6 +151,7 @@ void ci_clear_run(cont_solver *s)
     for (long i = 0; i < s->nspec; i++) ci_pt_free(s->spec[i]);
     s->nspec = 0;
     s->state = ST_IDLE;
+    s->anchor_level = 0;
     s->stop_reason = CONT_STOP_NONE;
     s->steps = 0;
     s->index = 0;

@@ -246,13 +246,18 @@ typedef int (*cont_jacobian_fn)(const double *y, double p, SUNMatrix Jy,
 
 /* Optional proximal anchor, for problems whose Jacobian carries a
  * regularisation -eps D on some unknowns (e.g. the multipliers of nearly
- * dependent constraints) that F itself does not: on = 1 makes F include
- * -eps D (y - ya) on those rows, anchored at ya = y (the given state), so
- * that the regularised Jacobian is F's exact Jacobian; on = 0 (y NULL)
- * restores the plain F.  The corrector uses it only to retry an attempt
- * that stagnated at a residual floor near the tolerance, from the
- * stagnated iterate, and keeps the result only if the plain F then meets
- * the tolerance.  Return 0 on success. */
+ * dependent constraints) that F itself does not: on = k >= 1 makes F
+ * include -eps_k D (y - ya) on those rows, anchored at ya = y (the given
+ * state), and the Jacobian carry -eps_k D, so that it is F's exact
+ * Jacobian; eps_1 = the problem's eps, each further level a smaller weight
+ * (the problem's choice; sf_equil_anchor: 10 times smaller), which
+ * resolves constraint directions that eps hides at the price of
+ * conditioning.  on = 0 (y NULL) restores the plain F.  The corrector
+ * retries an attempt that stagnated at a residual floor near the
+ * tolerance with it (levels 1 to 4, each from the point the last one
+ * reached), and once that succeeded, tries it first at every later
+ * attempt of the run, from the level that succeeded; a result is kept
+ * only if the plain F meets the tolerance.  Return 0 on success. */
 typedef int (*cont_anchor_fn)(const double *y, double p, int on, void *user);
 
 /* Optional user test functions: out[k], k < ntest, at the point (y, p) with

@@ -10,6 +10,7 @@
 #define REFINE_MAX 10      /* refinements of a solve with reused factors */
 #define REFINE_TOL 1e-10   /* their relative accuracy */
 #define REFINE_FLOOR 1e-7  /* accepted when they stall there (rounding) */
+#define ANCHOR_LEVELS 4    /* levels of the anchored solve (cont_anchor_fn) */
 
 int ci_kin_sys(N_Vector uv, N_Vector fv, void *data)
 {
@@ -112,33 +113,45 @@ static int polish(cont_solver *s, double *u, int *iters)
     return -1;
 }
 
-/* The retry of a stagnated attempt with the problem's proximal anchor
- * (cont_anchor_fn) at KINSOL's last iterate u: Newton on the anchored F,
- * whose Jacobian is the regularised one, so it converges where the plain
- * F stagnates at a floor.  Kept only if the plain residual then meets
- * ftol.  0 ok (u updated), -1 not. */
-static int anchored_retry(cont_solver *s, int maxit, int strategy, int *nit)
+/* Newton on the problem's anchored F (cont_anchor_fn) from u = s->u: its
+ * Jacobian is the regularised one, so it converges where the plain F
+ * stagnates at a floor.  The levels from s->anchor_level (at least 1) to
+ * ANCHOR_LEVELS in turn, each anchored at the point the last one reached
+ * (a smaller weight resolves constraint directions the regularisation
+ * hides), until the plain residual meets ftol; s->anchor_level is then
+ * the level that did.  0 ok (u updated), -1 not (u restored). */
+static int anchored_solve(cont_solver *s, int maxit, int strategy, int *nit)
 {
     long n = s->n, m = s->m;
     double *u = N_VGetArrayPointer(s->u);
     if (!ci_all_finite(u, m)) return -1;
     memcpy(s->w1, u, (size_t)m * sizeof(double));
-    if (s->prob.anchor(u, u[n], 1, s->prob.user) != 0) return -1;
-    KINSetNumMaxIters(s->kmem, maxit);
-    int flag = KINSol(s->kmem, s->u, strategy, s->uscale, s->fscale);
-    s->prob.anchor(NULL, 0.0, 0, s->prob.user);
-    long nni = 0;
-    KINGetNumNonlinSolvIters(s->kmem, &nni);
-    s->stp.newton_iters += nni;
-    s->stp.nlinsolve += nni;
-    if (nit) *nit += (int)nni;
-    double fs = INFINITY;
     double *f = malloc((size_t)n * sizeof(double));
-    if (f && (flag >= 0 || flag == KIN_LINESEARCH_NONCONV) && ci_all_finite(u, m) &&
-        ci_call_residual(s, u, u[n], f) == 0)
-        fs = ci_fscaled_max(s, f, n);
+    if (!f) return -1;
+    double fs = INFINITY;
+    int lev = s->anchor_level > 1 ? s->anchor_level : 1;
+    for (; lev <= ANCHOR_LEVELS; lev++) {
+        if (s->prob.anchor(u, u[n], lev, s->prob.user) != 0) break;
+        KINSetNumMaxIters(s->kmem, maxit);
+        int flag = KINSol(s->kmem, s->u, strategy, s->uscale, s->fscale);
+        s->prob.anchor(NULL, 0.0, 0, s->prob.user);
+        long nni = 0;
+        KINGetNumNonlinSolvIters(s->kmem, &nni);
+        s->stp.newton_iters += nni;
+        s->stp.nlinsolve += nni;
+        if (nit) *nit += (int)nni;
+        fs = INFINITY;
+        if ((flag >= 0 || flag == KIN_LINESEARCH_NONCONV) && ci_all_finite(u, m) &&
+            ci_call_residual(s, u, u[n], f) == 0)
+            fs = ci_fscaled_max(s, f, n);
+        s->anchor_fs = fmin(s->anchor_fs, fs);
+        if (fs <= s->ftol || !isfinite(fs)) break;
+    }
     free(f);
-    if (fs <= s->ftol) return 0;
+    if (fs <= s->ftol) {
+        s->anchor_level = lev;
+        return 0;
+    }
     memcpy(u, s->w1, (size_t)m * sizeof(double));   /* as the plain attempt left it */
     return -1;
 }
@@ -157,9 +170,25 @@ int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
     s->why[0] = '\0';
     s->kin_msg[0] = '\0';
     s->kin_fs = s->fail_fs = NAN;
+    s->anchor_fs = INFINITY;
     KINSetNumMaxIters(s->kmem, maxit);
     KINSetFuncNormTol(s->kmem, s->ftol);
     KINSetScaledStepTol(s->kmem, 1e-15);
+    if (s->prob.anchor && s->anchor_level) {
+        /* a residual floor was met earlier on this run: the anchored
+         * system first (from the guess, anchored at its multipliers); the
+         * plain attempt only if that fails */
+        int na = 0;
+        if (anchored_solve(s, maxit, strategy, &na) == 0) {
+            if (nit) *nit = na;
+            if (fnorm) *fnorm = s->last_fnorm;
+            memcpy(x, N_VGetArrayPointer(s->u), (size_t)m * sizeof(double));
+            return 0;
+        }
+        s->stp.retries++;
+        memcpy(N_VGetArrayPointer(s->u), x, (size_t)m * sizeof(double));
+        KINSetNumMaxIters(s->kmem, maxit);
+    }
     int flag = KINSol(s->kmem, s->u, strategy, s->uscale, s->fscale);
     long nni = 0;
     KINGetNumNonlinSolvIters(s->kmem, &nni);
@@ -218,13 +247,16 @@ int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
         free(name);
         s->fail_fs = s->kin_fs;
         if (s->prob.anchor && s->fail_fs <= 10.0 * s->ftol &&
-            anchored_retry(s, maxit, strategy, nit) == 0) {
+            anchored_solve(s, maxit, strategy, nit) == 0) {
             ok = 1;
             s->why[0] = '\0';
             s->fail_fs = NAN;
         }
     }
     if (fnorm) *fnorm = s->last_fnorm;
+    /* a failed attempt's residual: the lowest plain residual reached,
+     * anchored solves included (cont_step.c's floor diagnosis) */
+    if (!ok && s->anchor_fs < INFINITY && !(s->fail_fs <= s->anchor_fs)) s->fail_fs = s->anchor_fs;
     if (!ok) return -1;
     memcpy(x, u, (size_t)m * sizeof(double));
     return 0;

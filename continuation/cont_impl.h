@@ -132,6 +132,12 @@ struct cont_solver {
     double kin_fs;           /* scaled max residual at KINSOL's last call */
     double fail_fs;          /* the same where the last corrector attempt
                               * failed (NAN: not known, or converged) */
+    double anchor_fs;        /* lowest plain residual of this attempt's
+                              * anchored solves (INFINITY: none) */
+    int anchor_level;        /* the anchor level (cont_anchor_fn) of the last
+                              * anchored solve that met the tolerance in this
+                              * run; 0: none yet.  Nonzero: the corrector tries
+                              * the anchored system first, from that level */
     char why[400];           /* reason the last attempt failed */
     char kin_msg[256];       /* last message from KINSOL */
     char msg[1024];          /* first error */

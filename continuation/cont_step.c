@@ -275,22 +275,27 @@ static int special_points(cont_solver *s, const cpt *b, const cpt *xe, double he
     return 0;
 }
 
-/* A residual floor: every failed corrector attempt of a step ended with
- * its scaled residual within FLOOR_FACTOR times the Newton tolerance.
- * Newton then stagnates at the same residual however short the step is
- * (the predictor is the last point): the equations cannot be solved more
- * accurately there (e.g. nearly dependent constraint rows whose share of
- * the residual a regularised Newton step does not remove), which is
- * neither a turning point nor a branch point of the path. */
+/* A residual floor: the failed corrector attempts of a step, from some
+ * step length down to ds_min, all ended with their scaled residual (the
+ * lowest reached, anchored solves included) within FLOOR_FACTOR times the
+ * Newton tolerance.  Newton then stagnates at the same residual however
+ * short the step is (the predictor is the last point): the equations
+ * cannot be solved more accurately there (e.g. nearly dependent constraint
+ * rows whose share of the residual a regularised Newton step does not
+ * remove), which is neither a turning point nor a branch point of the
+ * path.  The first attempts of a step (long steps) may fail otherwise. */
 #define FLOOR_FACTOR 10.0
-typedef struct { int fails, near; double lo, hi; } floor_watch;
+#define FLOOR_MIN_ATTEMPTS 3
+typedef struct { int near; double lo, hi, ds; } floor_watch;
 
-static void floor_count(const cont_solver *s, floor_watch *fw)
+static void floor_count(const cont_solver *s, floor_watch *fw, double ds)
 {
-    fw->fails++;
     double f = s->fail_fs;
-    if (!(f <= FLOOR_FACTOR * s->ftol)) return;
-    fw->near++;
+    if (!(f <= FLOOR_FACTOR * s->ftol)) {
+        *fw = (floor_watch){ 0, INFINITY, 0.0, 0.0 };
+        return;
+    }
+    if (fw->near++ == 0) fw->ds = ds;
     fw->lo = fmin(fw->lo, f);
     fw->hi = fmax(fw->hi, f);
 }
@@ -300,14 +305,15 @@ static void floor_note(const cont_solver *s, const floor_watch *fw, double tp, c
                        size_t len)
 {
     buf[0] = '\0';
-    if (fw->fails < 2 || fw->near < fw->fails) return;
-    snprintf(buf, len, "; diagnosis: all %d attempts stagnated at a scaled residual of "
-             "%.3g to %.3g, just above the Newton tolerance %.3g, however short the step: "
-             "a residual floor of the equations at this point (e.g. nearly dependent "
-             "constraint rows, whose share of the residual a regularised Newton step does "
-             "not remove), not a turning point (dp/ds = %.3g at the last point); a Newton "
-             "tolerance above %.3g gets past this point (the floor may grow further on)", fw->fails, fw->lo, fw->hi, s->ftol, tp,
-             fw->hi);
+    if (fw->near < FLOOR_MIN_ATTEMPTS) return;
+    snprintf(buf, len, "; diagnosis: the last %d attempts (steps %.3g down to ds_min) all "
+             "stagnated at a scaled residual of %.3g to %.3g, just above the Newton "
+             "tolerance %.3g, however short the step: a residual floor of the equations at "
+             "this point (e.g. nearly dependent constraint rows, whose share of the residual "
+             "a regularised Newton step does not remove), not a turning point (dp/ds = %.3g "
+             "at the last point); a Newton tolerance above %.3g gets past this point (the "
+             "floor may grow further on)", fw->near, fw->ds, fw->lo, fw->hi,
+             s->ftol, tp, fw->hi);
 }
 
 /* Compute one step from s->base and queue the resulting points. */
@@ -328,7 +334,7 @@ static int compute_step(cont_solver *s)
     double cosmax = s->max_angle > 0 ? cos(s->max_angle) : -2.0;
     int nit = 0, r;
     double fn = NAN;
-    floor_watch fw = { 0, 0, INFINITY, 0.0 };
+    floor_watch fw = { 0, INFINITY, 0.0, 0.0 };
     for (;;) {
         if (ds < s->ds_min) {
             free(c);
@@ -362,7 +368,7 @@ static int compute_step(cont_solver *s)
             }
         }
         if (r == 0) break;
-        floor_count(s, &fw);
+        floor_count(s, &fw, ds);
         s->stp.retries++;
         ds *= s->shrink;
     }

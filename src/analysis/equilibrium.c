@@ -18,6 +18,7 @@ static void sf_equil_scales(sf_equil *q);
 
 double sf_equil_reg_eps(const sf_equil *q, const double *y)
 {
+    if (q->eps_anchor > 0) return q->eps_anchor;   /* anchored: its weight */
     if (!(q->reg_rel > 0)) return REG_EPS;
     double a = 0.0;
     for (int j = 0; j < q->m->nq; j++) a = fmax(a, fabs(y[j]));
@@ -33,6 +34,7 @@ int sf_equil_anchor(const double *y, double p, int on, void *user)
     if (!q->lam_anchor && !(q->lam_anchor = malloc(sizeof(double) * (size_t)q->ncon))) return 1;
     memcpy(q->lam_anchor, y + q->nq, sizeof(double) * (size_t)q->ncon);
     q->eps_anchor = sf_equil_reg_eps(q, y);
+    for (int k = 1; k < on; k++) q->eps_anchor *= 0.1;   /* cont.h: the levels */
     return 0;
 }
 
