@@ -183,3 +183,11 @@ void sf_ldlt_get_info(const sf_ldlt *f, sf_ldlt_info *info)
 {
     *info = f->info;
 }
+
+int sf_ldlt_null_rows(const sf_ldlt *f, int *list, int max)
+{
+    if (!f->factored) return 0;
+    int k = f->info.nnull;
+    for (int i = 0; i < k && i < max; i++) list[i] = f->id.pivnul_list[i] - 1;
+    return k;
+}

@@ -54,4 +54,9 @@ typedef struct sf_ldlt_info {
 
 void sf_ldlt_get_info(const sf_ldlt *f, sf_ldlt_info *info);
 
+/* The rows (0-based) of the null pivots of the last factorisation
+ * (MUMPS PIVNUL_LIST, INFOG(28) of them): up to max into list; returns
+ * their number. */
+int sf_ldlt_null_rows(const sf_ldlt *f, int *list, int max);
+
 #endif

@@ -19,11 +19,19 @@
 #define EXTRA 6            /* eigenvalues computed beyond those wanted */
 #define BOUNDED_ITERS 10   /* ARPACK restarts of the one attempt with SF_SSTAB_EIG_BOUNDED */
 #define BOUNDED_BELOW 8    /* factorisations of the search for a shift below the spectrum, bounded */
+#define WEAK_ROW 1e-8      /* a kept row closer than this to the span of the others (unit rows):
+                              its pivot pair in K, about -dist^2 / h, can be lost to round-off */
+#define WEAK_MAX 1e-7      /* when K's count is inconsistent, the weakest rows up to this are
+                              taken out too, 1, 2, 4, ... of them until K_w's count holds */
 
 struct sf_sstab {
     int n, m;
     sf_sstab_opts o;
     sf_ldlt *f;
+    sf_ldlt *fw;           /* K_w: K with the weak rows taken out (take_out_weak) */
+    sf_ldlt *cur;          /* the factorisation in use: f, or fw when rows were taken out */
+    long nextra;           /* triplets after the -sigma diagonal (K_w: the multiplier diagonal) */
+    int rank_k, dim_k;     /* rows in the K in use, n - rank_k */
     /* triplets of K (lower triangle) */
     long cap;
     int *ti, *tj;
@@ -100,6 +108,7 @@ void sf_sstab_free(sf_sstab *s)
     if (!s) return;
     sf_rowbasis_free(s->rows);
     sf_ldlt_free(s->f);
+    sf_ldlt_free(s->fw);
     free(s->ti);
     free(s->tj);
     free(s->tv);
@@ -157,7 +166,7 @@ static int assemble(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *er
     int rc = sf_rowbasis_select(s->rows, C, s->rs, s->rnew, s->mnz, &s->mk, &s->spqr_failed, err);
     if (rc) return rc;
     sf_rowbasis_counts(s->rows, &s->res.rank_qr, &s->res.rank_reused);
-    long need = (long)HL->colptr[n] + (m > 0 ? (long)C->colptr[n] : 0) + n;
+    long need = (long)HL->colptr[n] + (m > 0 ? (long)C->colptr[n] : 0) + n + m;
     if (need > s->cap) {
         int *ti = realloc(s->ti, sizeof(int) * (size_t)need);
         if (ti) s->ti = ti;
@@ -217,10 +226,10 @@ static int factor_at(sf_sstab *s, double sigma, int *neg, int *nnull, sf_error *
 {
     long nt = s->ndiag_at + s->n;
     for (long t = s->ndiag_at; t < nt; t++) s->tv[t] = -sigma;
-    int rc = sf_ldlt_factor(s->f, s->n + s->mk, nt, s->ti, s->tj, s->tv, err);
+    int rc = sf_ldlt_factor(s->cur, s->n + s->mk, nt + s->nextra, s->ti, s->tj, s->tv, err);
     if (rc) return rc;
     sf_ldlt_info in;
-    sf_ldlt_get_info(s->f, &in);
+    sf_ldlt_get_info(s->cur, &in);
     *neg = in.neg;
     *nnull = in.nnull;
     s->res.analyses = in.analyses;
@@ -233,7 +242,7 @@ static int apply_op(sf_sstab *s, const double *x, double *u, sf_error *err)
     int n = s->n;
     memcpy(s->b, x, sizeof(double) * (size_t)n);
     memset(s->b + n, 0, sizeof(double) * (size_t)s->mk);
-    int rc = sf_ldlt_solve(s->f, s->b, err);
+    int rc = sf_ldlt_solve(s->cur, s->b, err);
     if (rc) return rc;
     memcpy(u, s->b, sizeof(double) * (size_t)n);
     return SF_OK;
@@ -371,16 +380,16 @@ typedef struct found {
 static int eigen_attempts(sf_sstab *s, double sigma0, int morse0, int *done, sf_error *err)
 {
     sf_sstab_result *R = &s->res;
-    int n = s->n, want = s->o.nev + EXTRA < R->dim ? s->o.nev + EXTRA : R->dim;
+    int n = s->n, want = s->o.nev + EXTRA < s->dim_k ? s->o.nev + EXTRA : s->dim_k;
     *done = 0;
     if (want < 1) {
-        add_reason(R, "tangent space of dimension %d too small for ARPACK", R->dim);
+        add_reason(R, "tangent space of dimension %d too small for ARPACK", s->dim_k);
         return SF_OK;
     }
     sf_error e2;
     sf_error_clear(&e2);
     found F = {0, 4 * want + 2 * EXTRA, NULL, NULL, NULL};
-    if (F.cap > R->dim) F.cap = R->dim;
+    if (F.cap > s->dim_k) F.cap = s->dim_k;
     F.val = malloc(sizeof(double) * (size_t)F.cap * 2);
     F.Y = malloc(sizeof(double) * (size_t)F.cap * (size_t)n);
     double *ev = malloc(sizeof(double) * (size_t)F.cap);
@@ -416,7 +425,7 @@ static int eigen_attempts(sf_sstab *s, double sigma0, int morse0, int *done, sf_
                 sf_error_clear(&e2);
                 continue;
             }
-            cnt = nn == 0 ? ng - R->rank : 1;
+            cnt = nn == 0 ? ng - s->rank_k : 1;
         }
         if (cnt > 0 && s->o.effort == SF_SSTAB_EIG_BOUNDED) {
             add_reason(R, "no shift below the spectrum within %d factorisations", maxit);
@@ -429,7 +438,7 @@ static int eigen_attempts(sf_sstab *s, double sigma0, int morse0, int *done, sf_
     for (int a = 0; a < s->o.attempts && !*done; a++) {
         double sigma;
         int ncv, conv = 0, iters = 0, nn = 0, ng = 0;
-        int room = R->dim - F.nf;
+        int room = s->dim_k - F.nf;
         if (nev > room) nev = room;
         if (nev > n - 1) nev = n - 1;
         if (nev > F.cap - F.nf) nev = F.cap - F.nf;
@@ -474,7 +483,7 @@ static int eigen_attempts(sf_sstab *s, double sigma0, int morse0, int *done, sf_
         memcpy(F.sorted, F.val, sizeof(double) * (size_t)F.nf);
         qsort(F.sorted, (size_t)F.nf, sizeof(double), cmp_double);
         R->iters = iters;
-        int missed = sturm_check(s, F.sorted, F.nf, R->rank, R->null_pivots, &e2);
+        int missed = sturm_check(s, F.sorted, F.nf, s->rank_k, R->null_pivots, &e2);
         fs = NAN;
         if (missed < 0) {
             rc = sf_fail(err, SF_ENOMEM, "%s", e2.msg);
@@ -503,6 +512,74 @@ out:
     return rc;
 }
 
+typedef struct weak_rank {
+    double res;
+    int row; /* index among the kept rows */
+} weak_rank;
+
+static int cmp_weak(const void *a, const void *b)
+{
+    double x = ((const weak_rank *)a)->res, y = ((const weak_rank *)b)->res;
+    return (x > y) - (x < y);
+}
+
+/* The weak rows of K (docs/stability.md, "Weak rows"): the kept rows at
+ * null pivots of the last factorisation of K, and the `want` kept rows of
+ * smallest Heath residual among those below WEAK_MAX.  Marks them in
+ * weak[mk]; returns their number, or -1 on lack of memory.  *ncand: the
+ * rows below WEAK_MAX (how far want can grow). */
+static int mark_weak(sf_sstab *s, char *weak, int want, int *ncand)
+{
+    const double *res = sf_rowbasis_resid(s->rows);
+    int k = 0, nc = 0;
+    memset(weak, 0, (size_t)s->mk + 1);
+    weak_rank *wr = malloc(sizeof(weak_rank) * ((size_t)s->mk + 1));
+    if (!wr) return -1;
+    for (int i = 0; i < s->m; i++)
+        if (s->rnew[i] >= 0 && res[i] < WEAK_MAX) wr[nc++] = (weak_rank){res[i], s->rnew[i]};
+    qsort(wr, (size_t)nc, sizeof *wr, cmp_weak);
+    for (int t = 0; t < nc && t < want; t++) weak[wr[t].row] = 1;
+    free(wr);
+    *ncand = nc;
+    sf_ldlt_info in;
+    sf_ldlt_get_info(s->f, &in);
+    if (in.nnull > 0) {
+        int *list = malloc(sizeof(int) * (size_t)in.nnull);
+        if (!list) return -1;
+        int q = sf_ldlt_null_rows(s->f, list, in.nnull);
+        for (int t = 0; t < q && t < in.nnull; t++)
+            if (list[t] >= s->n && list[t] < s->n + s->mk) weak[list[t] - s->n] = 1;
+        free(list);
+    }
+    for (int r = 0; r < s->mk; r++) k += weak[r];
+    return k;
+}
+
+/* Switch to K_w: K with the weak rows taken out (their entries set to 0
+ * and a unit diagonal on their multipliers, which adds one positive
+ * pivot each; the pattern is that of K plus the multiplier diagonal,
+ * factorised by fw, analysed once for it).  Returns SF_OK or the error. */
+static int take_out_weak(sf_sstab *s, const char *weak, int kw, sf_error *err)
+{
+    int n = s->n, mk = s->mk;
+    for (long t = 0; t < s->ndiag_at; t++)
+        if (s->ti[t] >= n && weak[s->ti[t] - n]) s->tv[t] = 0.0;
+    long at = s->ndiag_at + n;
+    for (int r = 0; r < mk; r++) {
+        s->ti[at + r] = s->tj[at + r] = n + r;
+        s->tv[at + r] = weak[r] ? 1.0 : 0.0;
+    }
+    if (!s->fw) {
+        int rc = sf_ldlt_create(&s->fw, NULL_TOL, err);
+        if (rc) return rc;
+    }
+    s->cur = s->fw;
+    s->nextra = mk;
+    s->rank_k = mk - kw;
+    s->dim_k = n - s->rank_k;
+    return SF_OK;
+}
+
 int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
 {
     int n = s->n, rc;
@@ -517,6 +594,8 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
     if ((rc = check_csc(HL, n, n, "HL", err))) return rc;
     if (C && s->m > 0 && (rc = check_csc(C, s->m, n, "C", err))) return rc;
     if ((rc = assemble(s, HL, C, err))) return rc;
+    s->cur = s->f;
+    s->nextra = 0;
     if (s->spqr_failed) {
         R->status = SF_SSTAB_UNKNOWN;
         snprintf(R->reason, sizeof R->reason, "the rank of the constraint rows could not be "
@@ -560,6 +639,72 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
     R->rank = s->mk;
     R->dim = n - R->rank;
     R->morse = neg - R->rank;
+    s->rank_k = s->mk;
+    s->dim_k = R->dim;
+    /* Weak rows (docs/stability.md, "Weak rows"): a kept row within
+     * WEAK_ROW of the span of the others pairs in K with the direction only
+     * it constrains, [h, d; d, 0], whose small eigenvalue -d^2/h can be at
+     * round-off: its pivot may come out null or of either sign.  The index
+     * mw of K_w (those rows taken out) bounds the true one: adding kw rows
+     * lowers a Morse index by at most kw (Cauchy interlacing), so it lies
+     * in [mw - kw, mw]: 0 when mw = 0, positive when mw > kw. */
+    char *weak = malloc((size_t)s->mk + 1);
+    if (!weak) return sf_fail(err, SF_ENOMEM, "out of memory");
+    const double *res = sf_rowbasis_resid(s->rows);
+    int want = 0, ncand = 0, kw = 0, negw = 0, nw = 0;
+    for (int i = 0; i < s->m; i++) want += s->rnew[i] >= 0 && res[i] < WEAK_ROW;
+    if (want == 0 && (R->morse < 0 || nnull > 0)) want = 1;
+    for (;;) {
+        kw = mark_weak(s, weak, want, &ncand);
+        if (kw <= 0) break;
+        rc = take_out_weak(s, weak, kw, &e2);
+        for (int i = 0; i < 3 && !rc; i++) {
+            sigma0 = shifts[i];
+            rc = factor_at(s, sigma0, &negw, &nw, &e2);
+            if (!rc && i == 0) R->null_at_zero = nw;
+            if (!rc && nw == 0) break;
+        }
+        if (rc || (nw == 0 && negw >= s->rank_k) || want >= ncand) break;
+        want *= 2; /* K_w's count fails too: take out more of the weakest rows */
+    }
+    free(weak);
+    if (kw < 0) return sf_fail(err, SF_ENOMEM, "out of memory");
+    if (kw > 0) {
+        if (rc == SF_ENOMEM) return sf_fail(err, rc, "%s", e2.msg);
+        int mw = negw - s->rank_k;
+        R->null_pivots = nw;
+        R->status = SF_SSTAB_UNKNOWN;
+        R->morse = -1;
+        if (rc || nw > 0 || mw < 0) {
+            snprintf(R->reason, sizeof R->reason, "inertia ambiguous: %d constraint row(s) nearly "
+                     "dependent (Heath residual below %.0e or a null KKT pivot), and without them "
+                     "%s", kw, WEAK_MAX, rc ? "the factorisation failed"
+                     : nw > 0 ? "null pivots remain" : "the count is inconsistent");
+            return SF_OK;
+        }
+        if (mw > 0) {
+            snprintf(R->reason, sizeof R->reason, "inertia ambiguous: Morse index between %d and "
+                     "%d (%d constraint row(s) nearly dependent: Heath residual below %.0e or a "
+                     "null KKT pivot)", mw > kw ? mw - kw : 0, mw, kw, WEAK_MAX);
+            R->stable = mw > kw ? 0 : -1;
+            return SF_OK;
+        }
+        /* mw = 0: the index is 0; the eigenvalues are those of K_w, lower
+         * bounds of those of H_c (interlacing) */
+        R->status = SF_SSTAB_OK;
+        R->morse = 0;
+        add_reason(R, "Morse index 0 and eigenvalues with %d nearly dependent constraint row(s) "
+                   "left out (eigenvalues: lower bounds); ", kw);
+    } else if (nnull > 0) {
+        /* a null pivot at every shift is no eigenvalue of H_c: the count is
+         * ambiguous */
+        R->status = SF_SSTAB_UNKNOWN;
+        snprintf(R->reason, sizeof R->reason, "inertia ambiguous: %d null pivot(s) of K at every "
+                 "shift down to %.3g, %d negative pivots for constraint rank %d", nnull, sigma0, neg,
+                 R->rank);
+        R->morse = -1;
+        return SF_OK;
+    }
     if (R->morse < 0) {
         R->status = SF_SSTAB_UNKNOWN;
         snprintf(R->reason, sizeof R->reason, "inertia inconsistent: %d negative pivots for "

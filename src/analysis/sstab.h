@@ -24,6 +24,13 @@
  *    Sylvester: neg(K) = neg(H_c - sigma) + r, so the Morse index is
  *    neg(K(0)) - r (when H_c is singular, at sigma0 = -1e-6 max|diag HL|,
  *    an eigenvalue in [sigma0, 0) then counted from its computed value);
+ *  - weak rows (kept rows with a Heath residual below 1e-8, or at a null
+ *    pivot of K; when K_w's count still fails, the weakest up to 1e-7):
+ *    their pivot pairs in K are at round-off.  They are taken out (K_w)
+ *    and its index mw bounds the true one to [mw - kw, mw] (interlacing):
+ *    0 when mw = 0 (the eigenvalues then those of K_w, lower bounds),
+ *    else unknown with the range in the reason ("inertia ambiguous"),
+ *    unstable when mw > kw;
  *    for an unstable point the ARPACK shift is placed just below the
  *    spectrum by the same counts;
  *  - ARPACK (dsaupd/dseupd) in shift-invert on the pencil (K(0), diag(I,

@@ -29,6 +29,7 @@ struct sf_rowbasis {
     double *cu;          /* [m] C u */
     unsigned long long seed;
     int qr, reused;
+    double *resid;       /* [m] Heath residual |R(k,k)| of a row of S at the last QR */
 };
 
 int sf_rowbasis_create(sf_rowbasis **out, int n, int m, sf_error *err)
@@ -43,7 +44,8 @@ int sf_rowbasis_create(sf_rowbasis **out, int n, int m, sf_error *err)
     b->ins = calloc((size_t)m + 1, sizeof(int));
     b->w = calloc((size_t)(n + m) + 1, sizeof(double));
     b->cu = calloc((size_t)m + 1, sizeof(double));
-    if (!b->ins || !b->w || !b->cu) {
+    b->resid = calloc((size_t)m + 1, sizeof(double));
+    if (!b->ins || !b->w || !b->cu || !b->resid) {
         sf_rowbasis_free(b);
         return sf_fail(err, SF_ENOMEM, "out of memory");
     }
@@ -65,7 +67,13 @@ void sf_rowbasis_free(sf_rowbasis *b)
     free(b->tv);
     free(b->w);
     free(b->cu);
+    free(b->resid);
     free(b);
+}
+
+const double *sf_rowbasis_resid(const sf_rowbasis *b)
+{
+    return b->resid;
 }
 
 void sf_rowbasis_counts(const sf_rowbasis *b, int *qr, int *reused)
@@ -128,11 +136,24 @@ static int qr_rows(sf_rowbasis *b, const sf_csc *C, const double *rs, const int 
     int *indep = NULL;
     if (ok) indep = calloc((size_t)mnz + 1, sizeof(int));
     if (ok && indep) {
-        for (SuiteSparse_long k = 0; k < r; k++) indep[E ? E[k] : k] = 1;
-        b->ns = 0;
-        for (int i = 0; i < m; i++) {
-            b->ins[i] = rnew[i] >= 0 && indep[rnew[i]];
-            b->ns += b->ins[i];
+        double *res = malloc(sizeof(double) * ((size_t)mnz + 1));
+        if (!res) {
+            free(indep);
+            indep = NULL;
+        } else {
+            SuiteSparse_long *Rp = R->p;
+            double *Rx = R->x;
+            for (SuiteSparse_long k = 0; k < r; k++) {
+                indep[E ? E[k] : k] = 1;
+                res[E ? E[k] : k] = fabs(Rx[Rp[k + 1] - 1]);
+            }
+            b->ns = 0;
+            for (int i = 0; i < m; i++) {
+                b->ins[i] = rnew[i] >= 0 && indep[rnew[i]];
+                b->resid[i] = b->ins[i] ? res[rnew[i]] : 0.0;
+                b->ns += b->ins[i];
+            }
+            free(res);
         }
     }
     if (R) cholmod_l_free_sparse(&R, &b->cc);

@@ -40,6 +40,11 @@ void sf_rowbasis_free(sf_rowbasis *b);
 int sf_rowbasis_select(sf_rowbasis *b, const sf_csc *C, double *rs, int *rnew, int mnz, int *mk,
                        int *failed, sf_error *err);
 
+/* [m]: for a row of the set, its Heath residual |R(k,k)| at the QR that
+ * chose it (its distance from the span of the rows chosen before it, on
+ * the unit rows); 0 for other rows. */
+const double *sf_rowbasis_resid(const sf_rowbasis *b);
+
 /* Counts since creation: rank-revealing QRs, points whose set was reused. */
 void sf_rowbasis_counts(const sf_rowbasis *b, int *qr, int *reused);
 
