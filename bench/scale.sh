@@ -15,9 +15,11 @@
 # attempts included), factorisations of the corrector matrix (stats.csv
 # "factorisations": the reusing corrector of the sparse solvers factorises
 # about once per point and solves the rest with refinement), step
-# retries (failed corrector attempts), wall time, peak memory
-# (/usr/bin/time -v), exit status (0 = end of the path reached); then per
-# driving the fitted exponent of the wall time against the unknowns over
+# retries (failed corrector attempts), wall time, CPU time (user + system,
+# /usr/bin/time -v: on a shared machine the wall time also counts the
+# waits for a core), peak memory (/usr/bin/time -v), exit status (0 = end
+# of the path reached); then per driving the fitted exponent of the CPU
+# time against the unknowns over
 # the sizes m >= FITFROM (default 8) that reached the end of the path.
 # Environment: DRIVINGS (default "load actuation"), SIZES (default
 # "2 4 8 16 31"), K (fold modes, default 1), STAB, STEPS, TIMEOUT, START,
@@ -40,8 +42,8 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 echo "K = $K, stability $stab, flat start $start, formulation $form, timeout $tmo s"
 echo
-echo "| driving | m | folds | unknowns | nonzeros | points | p reached | Newton | Jacobians | factorisations | retries | wall [s] | peak MB | status |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+echo "| driving | m | folds | unknowns | nonzeros | points | p reached | Newton | Jacobians | factorisations | retries | wall [s] | CPU [s] | peak MB | status |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for d in $drivings; do
     for m in $sizes; do
         t=$tmp/$d$m
@@ -52,6 +54,7 @@ for d in $drivings; do
             -o "$t.out" > "$t.log" 2>&1
         rc=$?
         wall=$(awk -F': ' '/Elapsed \(wall clock\)/ { n = split($2, a, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + a[i]; print s }' "$t.time")
+        cpu=$(awk -F': ' '/User time/ { u = $2 } /System time/ { s = $2 } END { printf "%.2f", u + s }' "$t.time")
         mem=$(awk -F': ' '/Maximum resident/ { printf "%.0f", $2 / 1024 }' "$t.time")
         folds=$(grep -c 'from = ' "$t.cfg")
         unk=-; nnz=-; pts=0; pend=-; newt=0; jac=0; ret=0; fac=-
@@ -68,14 +71,14 @@ for d in $drivings; do
         [ -z "$unk" ] && unk=-
         [ -z "$nnz" ] && nnz=-
         st=$rc; [ $rc -eq 124 ] && st="timeout ${tmo} s"
-        echo "| $d | $m | $folds | $unk | $nnz | $pts | $pend | $newt | $jac | $fac | $ret | $wall | $mem | $st |"
-        [ $rc -eq 0 ] && [ "$m" -ge "$fitfrom" ] && [ "$unk" != - ] && echo "$d $unk $wall" >> "$tmp/fit"
+        echo "| $d | $m | $folds | $unk | $nnz | $pts | $pend | $newt | $jac | $fac | $ret | $wall | $cpu | $mem | $st |"
+        [ $rc -eq 0 ] && [ "$m" -ge "$fitfrom" ] && [ "$unk" != - ] && echo "$d $unk $cpu" >> "$tmp/fit"
     done
 done
 echo
 for d in $drivings; do
     touch "$tmp/fit"
     awk -v d="$d" -v f="$fitfrom" '$1 == d && $3 > 0 { x = log($2); y = log($3); n++; sx += x; sy += y; sxx += x * x; sxy += x * y }
-         END { if (n >= 2) printf "fitted (%s): wall time ~ unknowns^%.2f over %d sizes m >= %d\n", d, (n * sxy - sx * sy) / (n * sxx - sx * sx), n, f;
+         END { if (n >= 2) printf "fitted (%s): CPU time ~ unknowns^%.2f over %d sizes m >= %d\n", d, (n * sxy - sx * sy) / (n * sxx - sx * sx), n, f;
                else printf "fitted (%s): fewer than two sizes m >= %d reached the end of the path\n", d, f }' "$tmp/fit"
 done
