@@ -467,6 +467,51 @@ static void test_nonzeros_linear(void **state)
     assert_int_equal(b4, z4);
 }
 
+/* The lift's analytic derivative along a fold motion (the seed of the
+ * sparse start's rigid modes) against a central difference of the lift,
+ * at the flat sheet and at a random folded state, with shape modes. */
+static void test_lift_direction(void **state)
+{
+    (void)state;
+    const char *k2[] = {"defaults.modes=2"};
+    struct { const char *name; int nset; const char **sets; } cases[] = {
+        {"square4", 0, NULL}, {"waterbomb2", 1, k2}, {"strip3", 1, k2}};
+    for (size_t c = 0; c < sizeof cases / sizeof *cases; c++) {
+        sf_scene sc;
+        open_scene(&sc, cases[c].name, cases[c].nset, cases[c].sets);
+        const sf_model *m = &sc.model;
+        sf_error err;
+        sf_error_clear(&err);
+        sf_poses P;
+        assert_int_equal(sf_poses_init(&P, m, &err), SF_OK);
+        int nq = m->nq, nx = nq + 6 * (m->nfaces - 1);
+        double *q = calloc(nx, sizeof *q), *dq = calloc(nx, sizeof *q), *dx = calloc(nx, sizeof *q);
+        double *xp = calloc(nx, sizeof *q), *xm = calloc(nx, sizeof *q), *qh = calloc(nx, sizeof *q);
+        for (int at = 0; at < 2; at++) {
+            if (at) random_state(m, q, 0.4, 0.2);
+            random_state(m, dq, 1.0, 0.5);
+            assert_int_equal(sf_poses_from_folds_dir(&P, q, dq, dx), SF_OK);
+            double h = 1e-6, err_max = 0.0, big = 0.0;
+            for (int sg = -1; sg <= 1; sg += 2) {
+                for (int j = 0; j < nq; j++) qh[j] = q[j] + sg * h * dq[j];
+                assert_int_equal(sf_poses_from_folds(&P, qh, sg > 0 ? xp : xm), SF_OK);
+            }
+            for (int j = 0; j < nx; j++) {
+                double fd = (xp[j] - xm[j]) / (2.0 * h);
+                err_max = fmax(err_max, fabs(fd - dx[j]));
+                big = fmax(big, fabs(dx[j]));
+            }
+            print_message("# %s %s: |d poses| %.3g, against the central difference %.2e\n",
+                          cases[c].name, at ? "folded" : "flat", big, err_max);
+            assert_true(big > 1e-3);
+            CHECK_LE(err_max, 1e-7 * big, "%s: lift derivative off by %g", cases[c].name, err_max);
+        }
+        free(q); free(dq); free(dx); free(xp); free(xm); free(qh);
+        sf_poses_free(&P);
+        sf_scene_close(&sc);
+    }
+}
+
 int main(void)
 {
     const char *src = getenv("SF_SRCDIR");
@@ -478,6 +523,7 @@ int main(void)
         cmocka_unit_test(test_pose_jacobian),
         cmocka_unit_test(test_formulations_agree),
         cmocka_unit_test(test_nonzeros_linear),
+        cmocka_unit_test(test_lift_direction),
     };
     int rc = cmocka_run_group_tests(tests, NULL, NULL);
     SUNContext_Free(&sun_ctx);

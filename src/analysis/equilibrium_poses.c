@@ -336,6 +336,14 @@ int sf_equil_poses_lift(sf_equil *q, double *y)
     return SF_OK;
 }
 
+int sf_equil_poses_lift_dir(sf_equil *q, const double *y, const double *dy, double *dx)
+{
+    struct sf_peq *z = q->pz;
+    if (sf_poses_from_folds_dir(&z->P, y, dy, dx)) return SF_ENOMEM;
+    memset(dx + z->nx, 0, sizeof(double) * (size_t)q->ncon);
+    return SF_OK;
+}
+
 long sf_equil_poses_nnz(const sf_equil *q) { return q->pz ? q->pz->T.nnz : 0; }
 
 /* ------------------------------------------------------------ callbacks */

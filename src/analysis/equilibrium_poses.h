@@ -29,6 +29,9 @@ int sf_equil_use_poses(sf_equil *q, sf_error *err);
 /* Complete a state whose first m->nq values are fold coordinates: the
  * poses from the tree maps (poses.h, sf_poses_from_folds), multipliers 0. */
 int sf_equil_poses_lift(sf_equil *q, double *y);
+/* Derivative of that lift at the fold coordinates of y along those of dy
+ * (analytic, sf_poses_from_folds_dir): dx = (dq, d poses, 0). */
+int sf_equil_poses_lift_dir(sf_equil *q, const double *y, const double *dy, double *dx);
 
 /* Nonzeros of the Jacobian pattern. */
 long sf_equil_poses_nnz(const sf_equil *q);

@@ -500,18 +500,12 @@ static int rigid_start(lim_ws *L, const double *u, const double *ws, double *st,
         double ratio = fabs(ts) > 0.1 * xs && *t * ts > 0 ? *t / ts : 0.0;
         for (int k = 1; k < m->qn[i]; k++) t[k] = ratio * ws[m->qoff[i] + k];
     }
-    /* the poses of the motion to first order: the tree maps' poses at
-     * +-tt times it (a central difference of sf_poses_from_folds; a first
-     * guess only, which Newton corrects: the first-order rows J x = 0 are
-     * linear).  The poses of ws instead led back to ws's state. */
-    double tt = 1e-6 / xs;
-    for (int sg = -1; sg <= 1; sg += 2) {
-        memcpy(ybuf, L->y0, sizeof(double) * (size_t)n);
-        for (int i = 0; i < nf; i++) ybuf[i] += sg * tt * st[i];
-        if (sf_equil_poses_lift(q, ybuf)) return 0;
-        for (int i = nf; i < nx; i++) st[n + i] += sg * ybuf[i];   /* scratch: the z half */
-    }
-    for (int i = nf; i < nx; i++) st[i] = st[n + i] / (2.0 * tt);
+    /* the poses of the motion to first order: the derivative of the tree
+     * maps' poses along it (a first guess, which Newton corrects: the
+     * first-order rows J x = 0 are linear).  The poses of ws instead led
+     * back to ws's state. */
+    if (sf_equil_poses_lift_dir(q, L->y0, st, ybuf)) return 0;
+    for (int i = nf; i < nx; i++) st[i] = ybuf[i];
     memcpy(st + nx, ws + nx, sizeof(double) * (size_t)(2 * n - nx));   /* mu, z, nu */
     return 1;
 }

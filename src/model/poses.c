@@ -513,6 +513,87 @@ int sf_poses_from_folds(const sf_poses *P, const double *q, double *x)
     return SF_OK;
 }
 
+/* d(log R) = Jl^-1(phi) omega for a spatial angular velocity omega
+ * (dR = [omega]x R), R = exp([phi]x): Jl^-1 = I - [phi]x / 2 + c [phi]x^2,
+ * c = 1/t^2 - (1 + cos t) / (2 t sin t) (series below t = 1e-3). */
+static void dlog_left(const double phi[3], const double w[3], double out[3])
+{
+    double t2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2], t = sqrt(t2);
+    double c = t < 1e-3 ? 1.0 / 12.0 + t2 / 720.0
+                        : 1.0 / t2 - (1.0 + cos(t)) / (2.0 * t * sin(t));
+    double pw[3] = {phi[1] * w[2] - phi[2] * w[1], phi[2] * w[0] - phi[0] * w[2],
+                    phi[0] * w[1] - phi[1] * w[0]};
+    double ppw[3] = {phi[1] * pw[2] - phi[2] * pw[1], phi[2] * pw[0] - phi[0] * pw[2],
+                     phi[0] * pw[1] - phi[1] * pw[0]};
+    for (int a = 0; a < 3; a++) out[a] = w[a] - 0.5 * pw[a] + c * ppw[a];
+}
+
+/* Ad_X xi for X = (R, t) (12 values, row-major 3 x 4) and xi = (omega, v):
+ * (R omega, R v + t x R omega). */
+static void adjoint_apply(const double X[12], const double xi[6], double out[6])
+{
+    double w[3], v[3];
+    for (int r = 0; r < 3; r++) {
+        w[r] = X[4 * r] * xi[0] + X[4 * r + 1] * xi[1] + X[4 * r + 2] * xi[2];
+        v[r] = X[4 * r] * xi[3] + X[4 * r + 1] * xi[4] + X[4 * r + 2] * xi[5];
+    }
+    double t[3] = {X[3], X[7], X[11]};
+    out[0] = w[0];
+    out[1] = w[1];
+    out[2] = w[2];
+    out[3] = v[0] + t[1] * w[2] - t[2] * w[1];
+    out[4] = v[1] + t[2] * w[0] - t[0] * w[2];
+    out[5] = v[2] + t[0] * w[1] - t[1] * w[0];
+}
+
+int sf_poses_from_folds_dir(const sf_poses *P, const double *q, const double *dq, double *dx)
+{
+    const sf_model *m = P->m;
+    const sf_topology *t = m->topo;
+    sf_kin k;
+    if (sf_kin_alloc(m, &k)) return SF_ENOMEM;
+    double *V = calloc((size_t)m->nfaces * 6 + 1, sizeof(double));
+    if (!V) {
+        sf_kin_free(&k);
+        return SF_ENOMEM;
+    }
+    sf_kin_eval(m, q, 1, &k);
+    memcpy(dx, dq, sizeof(double) * (size_t)P->nq);
+    /* spatial twists V_f = dX_f X_f^-1 down the tree: X_f = X_p T gives
+     * V_f = V_p + Ad_{X_p} xi, X_f = X_p T^-1 gives V_f = V_p - Ad_{X_f} xi,
+     * xi = sum_j (dT/dq_j T^-1) dq_j over the parent fold's coordinates */
+    for (int n = 0; n < t->nfaces; n++) {
+        int f = t->order[n], p = t->faces[f].parent;
+        if (p < 0) continue;
+        int fold = t->faces[f].parent_fold;
+        double xi[6] = {0}, ad[6];
+        for (int j = m->qoff[fold]; j < m->qoff[fold] + m->qn[fold]; j++)
+            for (int a = 0; a < 6; a++) xi[a] += k.xi[6 * j + a] * dq[j];
+        int left = t->folds[fold].left == f;
+        adjoint_apply(left ? k.X + 12 * p : k.X + 12 * f, xi, ad);
+        for (int a = 0; a < 6; a++) V[6 * f + a] = V[6 * p + a] + (left ? ad[a] : -ad[a]);
+    }
+    /* pose (phi, xf): dphi = Jl^-1 omega, dxf = omega x xf + v */
+    for (int f = 0; f < m->nfaces; f++) {
+        int kk = P->pose_of[f];
+        if (kk < 0) continue;
+        const double *A = k.X + 12 * f, *w = V + 6 * f;
+        double R[9], phi[3], xf[3];
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++) R[3 * r + c] = A[4 * r + c];
+        sf_rotation_log(R, phi);
+        sf_affine_apply(A, P->o + 3 * f, xf);
+        double *d = dx + P->nq + 6 * kk;
+        dlog_left(phi, w, d);
+        d[3] = w[1] * xf[2] - w[2] * xf[1] + w[3];
+        d[4] = w[2] * xf[0] - w[0] * xf[2] + w[4];
+        d[5] = w[0] * xf[1] - w[1] * xf[0] + w[5];
+    }
+    free(V);
+    sf_kin_free(&k);
+    return SF_OK;
+}
+
 /* ------------------------------------------------------------ triplets */
 
 void sf_trip_begin(sf_triplets *t, int n)

@@ -83,6 +83,9 @@ size_t sf_poses_work_size(const sf_poses *P);
 /* Pose state from a fold state q (nq values): x = (q, poses of the tree
  * maps at q).  Exact when the fold state closes its loops. */
 int sf_poses_from_folds(const sf_poses *P, const double *q, double *x);
+/* Its derivative along dq at q (analytic: the tree's spatial twists):
+ * dx = (dq, d poses).  SF_OK or SF_ENOMEM. */
+int sf_poses_from_folds_dir(const sf_poses *P, const double *q, const double *dq, double *dx);
 
 /* Rotation vector of a rotation matrix (angle in [0, pi]). */
 void sf_rotation_log(const double R[9], double phi[3]);
