@@ -170,7 +170,9 @@ static void remember_prev(sf_bif *b, const cont_point *pt, double sarc)
 
 void sf_bif_point_written(sf_bif *b, const cont_point *pt, double sarc)
 {
-    if (b->stab && !b->in_check) remember_prev(b, pt, sarc);
+    /* a point whose index is unknown is no bracket end: the next point is
+     * compared with the last one whose index is known */
+    if (b->stab && !b->in_check && !b->stab->res.morse_unknown) remember_prev(b, pt, sarc);
 }
 
 /* Solve at fixed p from the guess interpolated between the bracket ends
@@ -299,6 +301,7 @@ int sf_bif_check(sf_bif *b, const cont_point *pt, double s_offset, int first, sf
 {
     if (!b->stab) return SF_OK;
     const sf_stab_result *R = &b->stab->res;
+    if (R->morse_unknown) return SF_OK;
     int lo, hi;
     sf_bif_morse_bounds(R, pt, 0, &lo, &hi);
     if (!b->prev_ok || first || b->in_check || R->dim != b->prev_dim) return 0;

@@ -284,6 +284,7 @@ int sf_stab_certify(sf_stab *st, sf_equil *q, const double *y, double p, sf_erro
     if (!ascend(&c, mu, tau, margin, G, rhs, trial)) goto done;
     if (eig_at(&c, mu, 0)) goto done;
     R->morse = 0;
+    R->morse_unknown = 0;
     R->stable = 1;
     R->certified = 1;
     double mnorm = 0.0;

@@ -171,6 +171,7 @@ static int eval_dense(sf_stab *st, sf_error *err)
     }
     int d = nq - rank;
     R->method = SF_EIG_DENSE;
+    R->morse_unknown = 0;
     R->rank = rank;
     R->dim = d;
     R->iters = R->nop = 0;
@@ -221,6 +222,7 @@ static void take_sparse_result(sf_stab_result *R, const sf_sstab_result *S, int 
     R->rank = S->rank;
     R->dim = S->dim;
     R->morse = S->morse < 0 ? 0 : S->morse;
+    R->morse_unknown = S->morse < 0;
     R->stable = S->stable;
     R->neig = S->neig;
     memcpy(R->eig, S->eig, sizeof(double) * (size_t)S->neig);

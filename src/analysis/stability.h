@@ -59,6 +59,8 @@ typedef struct sf_stab_result {
     int rank;          /* rank of the constraint rows */
     int dim;           /* dimension of the tangent space, nq - rank */
     int morse;         /* negative eigenvalues of H_c */
+    int morse_unknown; /* 1: the index could not be decided (an ambiguous KKT inertia, the
+                          reason says why and gives its range); morse then holds 0 */
     int stable;        /* 1 if all eigenvalues of H_c are positive, 0 if not,
                           -1 unknown (ARPACK failed and the index is 0) */
     int neig;          /* eigenvalues in eig (min(nev, dim)) */

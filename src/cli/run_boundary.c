@@ -65,6 +65,7 @@ static int stab_at(bnd_ctx *r, double q, const double *y, double p, int critical
     if (!r->do_stab || sf_family_get(&r->fam, q, &eq, &e) || sf_stab_eval(&r->stab, eq, y, p, &e))
         return -1;
     const sf_stab_result *R = &r->stab.res;
+    if (R->morse_unknown) return -1; /* an ambiguous inertia: no index */
     int morse = R->morse;
     if (critical && R->neig > 0) {
         int k = 0;

@@ -43,8 +43,11 @@ static void stab_fields(run_ctx *r, sf_outbuf *b)
         for (int i = 0; i < r->nev; i++) sf_outbuf_printf(b, "\t");
         return;
     }
-    if (R->stable < 0) sf_outbuf_printf(b, "\t\t%d", R->morse); /* unknown: empty */
-    else sf_outbuf_printf(b, "\t%d\t%d", R->stable, R->morse);
+    /* unknown: empty (a # note names the row and the reason) */
+    if (R->stable < 0) sf_outbuf_printf(b, "\t");
+    else sf_outbuf_printf(b, "\t%d", R->stable);
+    if (R->morse_unknown) sf_outbuf_printf(b, "\t");
+    else sf_outbuf_printf(b, "\t%d", R->morse);
     for (int i = 0; i < r->nev; i++) {
         if (i < R->neig && isfinite(R->eig[i])) sf_outbuf_printf(b, "\t%.13g", R->eig[i]);
         else sf_outbuf_printf(b, "\t");
