@@ -510,6 +510,33 @@ static int rigid_start(lim_ws *L, const double *u, const double *ws, double *st,
     return 1;
 }
 
+/* A candidate after the first: from st (2n values), counted in info
+ * (starts, iterations, pushes, converged) and listed as candidate *k of
+ * the given kind, its energy NAN until the caller compares it.  Returns
+ * candidate()'s result (< 0: error in err). */
+static int extra_candidate(lim_ws *L, const double *st, double imperf, int maxit, int kind,
+                           double *wc, sf_flatlimit_info *info, sf_flatlimit_info *ci, int *k,
+                           sf_error *err)
+{
+    sf_error ce;
+    sf_error_clear(&ce);
+    int r = candidate(L, st, 2 * L->n, imperf, maxit, wc, ci, &ce);
+    info->starts++;
+    info->iterations += ci->iterations;
+    info->pushes += ci->pushes;
+    if (r < 0) {
+        *err = ce;
+        if (!err->code) err->code = SF_ENUMERIC;
+        return r;
+    }
+    *k = info->ncand++;
+    info->cand_kind[*k] = kind;
+    info->cand_conv[*k] = !r;
+    info->cand_energy[*k] = NAN;
+    info->converged += !r;
+    return r;
+}
+
 int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double *u, double imperf,
                          int mirror, double *w, sf_flatlimit_info *info, sf_error *err)
 {
@@ -547,22 +574,13 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
      * limit problem where the first-order response leads to a state of
      * higher energy (docs/flatstart.md, the 4x4 Miura sheet) */
     if (rigid_start(&L, u, w, st, wc)) {
-        sf_error_clear(&ce);
-        r = candidate(&L, st, 2 * n, imperf, MAXIT_RIGID, wc, &ci, &ce);
-        info->starts++;
-        info->iterations += ci.iterations;
-        info->pushes += ci.pushes;
+        int k;
+        r = extra_candidate(&L, st, imperf, MAXIT_RIGID, SF_LIMIT_RIGID, wc, info, &ci, &k, err);
         if (r < 0) {
-            *err = ce;
-            rc = ce.code;
+            rc = err->code;
             goto out;
         }
-        int k = info->ncand++;
-        info->cand_kind[k] = SF_LIMIT_RIGID;
-        info->cand_conv[k] = !r;
-        info->cand_energy[k] = NAN;
         if (!r) {
-            info->converged++;
             info->cand_energy[k] = ci.energy;
             /* strictly lower (beyond the tie tolerance): followed */
             if (ci.energy < info->energy - 1e-7 * fabs(info->energy)) {
@@ -584,22 +602,13 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
         memcpy(st, w, sizeof(double) * 2 * (size_t)n);
         for (int i = 0; i < m->nfolds; i++)
             for (int k = 1; k < m->qn[i]; k++) st[m->qoff[i] + k] = -w[m->qoff[i] + k];
-        sf_error_clear(&ce);
-        r = candidate(&L, st, 2 * n, 0.0, MAXIT_MIRROR, wc, &ci, &ce);
-        info->starts++;
-        info->iterations += ci.iterations;
-        info->pushes += ci.pushes;
+        int k;
+        r = extra_candidate(&L, st, 0.0, MAXIT_MIRROR, SF_LIMIT_MIRROR, wc, info, &ci, &k, err);
         if (r < 0) {
-            *err = ce;
-            rc = ce.code;
+            rc = err->code;
             goto out;
         }
-        int k = info->ncand++;
-        info->cand_kind[k] = SF_LIMIT_MIRROR;
-        info->cand_conv[k] = !r;
-        info->cand_energy[k] = NAN;
         if (!r) {
-            info->converged++;
             double dx = 0.0, xm = fold_max(&L, w);
             for (int i = 0; i < m->nq; i++) dx = fmax(dx, fabs(wc[i] - w[i]));
             info->xdiff = xm > 0 ? dx / xm : 0.0;

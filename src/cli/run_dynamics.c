@@ -156,16 +156,9 @@ static int write_outputs(traj_ctx *r)
 
 static int integrate(traj_ctx *r, sf_scene *sc)
 {
-    const sf_study *s = &sc->study;
     sf_error *err = r->err;
     if (sf_dyn_init(&r->d, &sc->model, err)) return err->code;
-    r->probes = calloc((size_t)s->nprobes + 1, sizeof(sf_mpoint));
-    if (!r->probes) return sf_fail(err, SF_ENOMEM, "out of memory");
-    for (int i = 0; i < s->nprobes; i++)
-        if (sf_model_locate(&sc->model, s->probes[i].at, &r->probes[i], err)) {
-            sf_error_prefix(err, "%s:%d: probe %d", s->path, s->probes[i].line, i + 1);
-            return err->code;
-        }
+    if (sf_scene_locate_probes(sc, &r->probes, err)) return err->code;
     if (sf_dyn_start(&r->d, err)) return err->code;
     /* the directory only once the trajectory has started */
     char shapes[1100];

@@ -193,13 +193,7 @@ int run_equilibrium(run_ctx *r)
     const char *formulation;
     if (sf_study_string(s, "solver.formulation", "folds", &formulation, err)) return err->code;
     if (strcmp(formulation, "poses") == 0 && sf_equil_use_poses(eq, err)) return err->code;
-    r->probes = calloc((size_t)s->nprobes + 1, sizeof(sf_mpoint));
-    if (!r->probes) return sf_fail(err, SF_ENOMEM, "out of memory");
-    for (int i = 0; i < s->nprobes; i++)
-        if (sf_model_locate(&sc->model, s->probes[i].at, &r->probes[i], err)) {
-            sf_error_prefix(err, "%s:%d: probe %d", s->path, s->probes[i].line, i + 1);
-            return err->code;
-        }
+    if (sf_scene_locate_probes(sc, &r->probes, err)) return err->code;
     int depth = 0;
     if (run_setup_stability(r, &depth)) return err->code;
     /* the continuation engine sees only this problem */

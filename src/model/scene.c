@@ -1,6 +1,7 @@
-/* scene.c - open and close a scene: study, topology, model. */
+/* scene.c - open and close a scene: study, topology, model; its probes. */
 #include "scene.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "study.h"
@@ -24,4 +25,17 @@ void sf_scene_close(sf_scene *sc)
     if (sc->have_topo) sf_topology_free(&sc->topo);
     if (sc->have_study) sf_study_free(&sc->study);
     memset(sc, 0, sizeof *sc);
+}
+
+int sf_scene_locate_probes(const sf_scene *sc, sf_mpoint **probes, sf_error *err)
+{
+    const sf_study *s = &sc->study;
+    *probes = calloc((size_t)s->nprobes + 1, sizeof(sf_mpoint));
+    if (!*probes) return sf_fail(err, SF_ENOMEM, "out of memory");
+    for (int i = 0; i < s->nprobes; i++)
+        if (sf_model_locate(&sc->model, s->probes[i].at, &(*probes)[i], err)) {
+            sf_error_prefix(err, "%s:%d: probe %d", s->path, s->probes[i].line, i + 1);
+            return err->code;
+        }
+    return SF_OK;
 }

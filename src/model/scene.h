@@ -19,5 +19,8 @@ typedef struct sf_scene {
 int sf_scene_open(sf_scene *sc, const char *path, int nset, const char **sets,
                   sf_error *err);
 void sf_scene_close(sf_scene *sc);
+/* The study's probes located on the model (calloc'ed array of nprobes,
+ * freed by the caller); a probe outside the sheet fails with its line. */
+int sf_scene_locate_probes(const sf_scene *sc, sf_mpoint **probes, sf_error *err);
 
 #endif
