@@ -1,5 +1,5 @@
 /* cont_test.h - checks and helpers shared by the continuation engine's
- * tests (test_cont.c, test_cont_det.c).  Include after cmocka.h. */
+ * tests (test_cont.c, test_cont_det.c, test_cont_reuse.c).  Include after cmocka.h. */
 #ifndef SF_CONT_TEST_H
 #define SF_CONT_TEST_H
 
@@ -98,6 +98,42 @@ static inline void dense_to_csc(SUNMatrix J, long n, const double *a)
             }
     }
     ptr[n] = k;
+}
+
+/* Bratu u'' + lam e^u = 0 on (0, 1), u = 0 at both ends, N central
+ * differences (user data: a bratu); its sparse Jacobian (3N entries). */
+typedef struct bratu {
+    long N;
+} bratu;
+
+static inline int bratu_res(const double *u, double lam, double *F, void *ud)
+{
+    long N = ((bratu *)ud)->N;
+    double h = 1.0 / (double)(N + 1), h2 = h * h;
+    for (long i = 0; i < N; i++) {
+        double ul = i > 0 ? u[i - 1] : 0.0, ur = i < N - 1 ? u[i + 1] : 0.0;
+        F[i] = ul - 2.0 * u[i] + ur + h2 * lam * exp(u[i]);
+    }
+    return 0;
+}
+
+static inline int bratu_jac_sparse(const double *u, double lam, SUNMatrix J, double *Fp, void *ud)
+{
+    long N = ((bratu *)ud)->N;
+    double h = 1.0 / (double)(N + 1), h2 = h * h;
+    if (SM_NNZ_S(J) < 3 * N && SUNSparseMatrix_Reallocate(J, 3 * N) != 0) return -1;
+    sunindextype *ptr = SM_INDEXPTRS_S(J), *idx = SM_INDEXVALS_S(J);
+    double *val = SM_DATA_S(J);
+    sunindextype k = 0;
+    for (long j = 0; j < N; j++) {
+        ptr[j] = k;
+        if (j > 0) { idx[k] = j - 1; val[k++] = 1.0; }
+        idx[k] = j; val[k++] = -2.0 + h2 * lam * exp(u[j]);
+        if (j < N - 1) { idx[k] = j + 1; val[k++] = 1.0; }
+        Fp[j] = h2 * exp(u[j]);
+    }
+    ptr[N] = k;
+    return 0;
 }
 
 #endif

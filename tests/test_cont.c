@@ -325,21 +325,6 @@ static void test_det_sign_solvers_agree(void **state)
 /* ------------------------------------------------------------------ */
 /* Bratu                                                                */
 
-typedef struct bratu {
-    long N;
-} bratu;
-
-static int bratu_res(const double *u, double lam, double *F, void *ud)
-{
-    long N = ((bratu *)ud)->N;
-    double h = 1.0 / (double)(N + 1), h2 = h * h;
-    for (long i = 0; i < N; i++) {
-        double ul = i > 0 ? u[i - 1] : 0.0, ur = i < N - 1 ? u[i + 1] : 0.0;
-        F[i] = ul - 2.0 * u[i] + ur + h2 * lam * exp(u[i]);
-    }
-    return 0;
-}
-
 static int bratu_jac_dense(const double *u, double lam, SUNMatrix J, double *Fp, void *ud)
 {
     long N = ((bratu *)ud)->N;
@@ -350,25 +335,6 @@ static int bratu_jac_dense(const double *u, double lam, SUNMatrix J, double *Fp,
         if (i < N - 1) SM_ELEMENT_D(J, i, i + 1) = 1.0;
         Fp[i] = h2 * exp(u[i]);
     }
-    return 0;
-}
-
-static int bratu_jac_sparse(const double *u, double lam, SUNMatrix J, double *Fp, void *ud)
-{
-    long N = ((bratu *)ud)->N;
-    double h = 1.0 / (double)(N + 1), h2 = h * h;
-    if (SM_NNZ_S(J) < 3 * N && SUNSparseMatrix_Reallocate(J, 3 * N) != 0) return -1;
-    sunindextype *ptr = SM_INDEXPTRS_S(J), *idx = SM_INDEXVALS_S(J);
-    double *val = SM_DATA_S(J);
-    sunindextype k = 0;
-    for (long j = 0; j < N; j++) {
-        ptr[j] = k;
-        if (j > 0) { idx[k] = j - 1; val[k++] = 1.0; }
-        idx[k] = j; val[k++] = -2.0 + h2 * lam * exp(u[j]);
-        if (j < N - 1) { idx[k] = j + 1; val[k++] = 1.0; }
-        Fp[j] = h2 * exp(u[j]);
-    }
-    ptr[N] = k;
     return 0;
 }
 
