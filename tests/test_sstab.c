@@ -603,6 +603,114 @@ static void test_sstab_near_dependent(void **state)
     }
 }
 
+/* A null pivot at 0 that comes from rows left out, not from H_c: the
+ * near-dependent setting above with dist 5e-9 (a weak row) and no
+ * curvature at all along the direction v only that row constrains (h = 0,
+ * v not coupled to e12), n coordinates.  The reference keeps the row: H_c
+ * is the free chain e12..e(n-1), stable, eig1 = 2 - 2 cos(pi / (n - 11))
+ * (closed form; at n = ND also the dense method, cut 1e-9; beyond ND two
+ * free chains).  Without the
+ * weak row (K_w) v is free with eigenvalue exactly 0: K_w(0) is singular,
+ * K_w(sigma0) is not, the index is 0, and the eigenvalues of K_w (lower
+ * bounds) start at 0.  The inertia and those bounds cannot tell the two
+ * apart: the verdict must be unknown with the reason, never "not stable"
+ * (what the bounded effort said before: a null pivot at 0 was taken for a
+ * mechanism of H_c) and never the opposite of the reference.  n = 80 with
+ * one ARPACK restart: the bounded effort without eigenvalues. */
+static void weak_zero_problem(int n, double *H, double *Cd)
+{
+    memset(H, 0, sizeof(double) * (size_t)n * n);
+    memset(Cd, 0, sizeof(double) * (size_t)MD * n);
+    for (int i = 0; i < n; i++) {
+        H[i * n + i] = 2.0;
+        if (i + 1 < n) H[i * n + i + 1] = H[(i + 1) * n + i] = -1.0;
+    }
+    double dist = 5e-9, r2 = sqrt(0.5), cu = sqrt(1.0 - dist * dist);
+    /* curvature 2 along u = (e10 + e11) / sqrt 2, 0 along v; v uncoupled */
+    H[10 * n + 10] = H[11 * n + 11] = 1.0;
+    H[10 * n + 11] = H[11 * n + 10] = 1.0;
+    H[11 * n + 12] = H[12 * n + 11] = 0.0;
+    H[9 * n + 10] = H[10 * n + 9] = 0.0;
+    /* beyond ND: e12..e(n-1) uncoupled, H_c = 2 I (a multiple eigenvalue,
+     * which one ARPACK attempt cannot resolve) */
+    for (int i = 12; n > ND && i + 1 < n; i++) H[i * n + i + 1] = H[(i + 1) * n + i] = 0.0;
+    for (int i = 0; i < 10; i++) Cd[i * n + i] = 1.0;
+    Cd[10 * n + 10] = Cd[10 * n + 11] = r2;
+    Cd[11 * n + 10] = r2 * (cu + dist);
+    Cd[11 * n + 11] = r2 * (cu - dist);
+    Cd[12 * n + 3] = 2.0;
+}
+
+static void test_sstab_null_at_zero_weak(void **state)
+{
+    (void)state;
+    enum { NW = 80 };
+    static double H[NW * NW], Cd[MD * NW], hv[2 * NW], cv[MD * NW];
+    static int hcp[NW + 1], hri[2 * NW], ccp[NW + 1], cri[MD * NW];
+    const int sizes[] = {ND, NW};
+    for (int c = 0; c < 2; c++) {
+        int n = sizes[c];
+        weak_zero_problem(n, H, Cd);
+        double e1 = n > ND ? 2.0 : 2.0 - 2.0 * cos(M_PI / (n - 11));
+        if (n == ND) {
+            double d1, gap, eabs, d1w, gapw, eabsw;
+            assert_int_equal(dense_morse(H, Cd, MD, ND, 1e-9, &d1, &gap, &eabs), 0);
+            assert_int_equal(dense_morse(H, Cd, MD, ND, 1e-8, &d1w, &gapw, &eabsw), 0);
+            assert_true(gap > 2.0 && gapw > 2.0);
+            CHECK_CLOSE(d1, e1, 1e-12, "dense eig1");
+            CHECK_LE(fabs(d1w), 1e-14, "dense eig1 without the weak row");
+        }
+        int th = 0, tc = 0;
+        for (int j = 0; j < n; j++) {
+            hcp[j] = th;
+            ccp[j] = tc;
+            for (int i = j; i < n; i++)
+                if (H[i * n + j] != 0.0 || i == j) {
+                    hri[th] = i;
+                    hv[th++] = H[i * n + j];
+                }
+            for (int i = 0; i < MD; i++)
+                if (Cd[i * n + j] != 0.0) {
+                    cri[tc] = i;
+                    cv[tc++] = Cd[i * n + j];
+                }
+        }
+        hcp[n] = th;
+        ccp[n] = tc;
+        sf_csc Hs = {n, n, hcp, hri, hv}, Cs = {MD, n, ccp, cri, cv};
+        for (int effort = 0; effort < 2; effort++) {
+            sf_sstab *st;
+            sf_error err;
+            sf_error_clear(&err);
+            /* bounded at n = NW: one restart at a tolerance it cannot meet */
+            int cap = n == NW && effort == SF_SSTAB_EIG_BOUNDED;
+            sf_sstab_opts o = {.nev = 2, .effort = effort, .maxiter = cap ? 1 : 0,
+                               .attempts = cap ? 1 : 0, .tol = cap ? 1e-15 : 0};
+            assert_int_equal(sf_sstab_create(&st, n, MD, &o, &err), SF_OK);
+            assert_int_equal(sf_sstab_eval(st, &Hs, &Cs, &err), SF_OK);
+            const sf_sstab_result *R = sf_sstab_get(st);
+            print_message("# null pivot at 0 from a weak row, n %d, effort %d: stable %d "
+                          "(reference 1), Morse index %d, null pivots at 0: %d, eig1 %.3g "
+                          "(reference %.6g), %d attempt(s), %d restarts, %d solves; %s\n", n, effort, R->stable, R->morse,
+                          R->null_at_zero, R->neig ? R->eig[0] : NAN, e1, R->attempts, R->iters, R->nop, R->reason);
+            assert_int_equal(R->rank, 12);
+            assert_int_equal(R->null_at_zero, 1);
+            assert_int_equal(R->morse, 0);
+            assert_int_equal(R->stable, -1);
+            assert_int_equal(R->status, SF_SSTAB_UNKNOWN);
+            if (cap) {
+                assert_int_equal(R->neig, 0);
+            } else {
+                assert_int_equal(R->neig, 2);
+                CHECK_LE(fabs(R->eig[0]), 1e-12, "eig1 of K_w");
+                CHECK_CLOSE(R->eig[1], e1, 1e-9 * e1, "eig2 of K_w: eig1 of H_c");
+            }
+            assert_true(strstr(R->reason, "null pivot") || strstr(R->reason, "lower bound"));
+            sf_sstab_free(st);
+        }
+    }
+}
+
 static void test_sstab_bad_input(void **state)
 {
     (void)state;
@@ -630,6 +738,7 @@ int main(void)
         cmocka_unit_test(test_sstab_bounded),
         cmocka_unit_test(test_sstab_rows_reuse),
         cmocka_unit_test(test_sstab_near_dependent),
+        cmocka_unit_test(test_sstab_null_at_zero_weak),
         cmocka_unit_test(test_sstab_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

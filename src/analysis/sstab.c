@@ -657,6 +657,14 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
     for (;;) {
         kw = mark_weak(s, weak, want, &ncand);
         if (kw <= 0) break;
+        /* K_w gets an analysis of its own each time: MUMPS's analysis
+         * depends on the values it sees (sym = 2: scaling, matching, the
+         * pairs of its ordering), and those of K_w change in kind with the
+         * rows taken out; reused from another set of weak rows it flagged
+         * null pivots that a fresh one does not (docs/stability.md) */
+        sf_ldlt_free(s->fw);
+        s->fw = NULL;
+        s->cur = s->f;
         rc = take_out_weak(s, weak, kw, &e2);
         for (int i = 0; i < 3 && !rc; i++) {
             sigma0 = shifts[i];
@@ -718,14 +726,49 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
     size_t len = strlen(R->reason);
     while (len > 0 && (R->reason[len - 1] == ' ' || R->reason[len - 1] == ';'))
         R->reason[--len] = '\0';
-    if (s->o.effort == SF_SSTAB_EIG_BOUNDED) {
-        /* the inertia decides; eigenvalues only if they came within the bound */
+    /* The level below which an eigenvalue of H_c is zero as far as the
+     * inertia can tell: MUMPS calls a pivot null when it is below CNTL(3) =
+     * NULL_TOL times the norm of the (scaled) matrix, so an eigenvalue up to
+     * about NULL_TOL max|diag HL| can show as a null pivot; a computed one
+     * carries ARPACK's error tol |lambda - sigma0| besides (Bauer-Fike). */
+    int bounded = s->o.effort == SF_SSTAB_EIG_BOUNDED;
+    if (bounded && !done) {
+        R->neig = 0;
+        R->morse = morse0;
+    }
+    double zero_eig = NULL_TOL * s->scale;
+    int clear = done && R->neig > 0 &&
+                R->eig[0] - s->o.tol * fabs(R->eig[0] - sigma0) > zero_eig;
+    /* Rows left out (kw > 0, mw = 0): the index is 0 (eigenvalues of K_w in
+     * [sigma0, 0) count as zero, those of H_c lie above them), and the
+     * eigenvalues are lower bounds: a null pivot of K_w at 0, or a bound at
+     * or below zero, says nothing about the sign of those of H_c. */
+    if (kw > 0 && (bounded || done)) R->morse = 0;
+    if (bounded) {
+        /* the inertia decides, the eigenvalues when it cannot (null pivots at 0) */
         R->status = SF_SSTAB_OK;
-        if (!done) {
-            R->neig = 0;
-            R->morse = morse0;
+        R->stable = R->morse == 0 && (R->null_at_zero == 0 || clear);
+        if (R->stable && R->null_at_zero > 0)
+            add_reason(R, "%s%d null pivot(s) at 0, but eig1 = %.3g lies above the null-pivot level "
+                       "%.2g", R->reason[0] ? "; " : "", R->null_at_zero, R->eig[0], zero_eig);
+        if (!R->stable && kw > 0) {
+            R->status = SF_SSTAB_UNKNOWN;
+            R->stable = -1;
+            if (!done)
+                snprintf(R->reason, sizeof R->reason, "%d null pivot(s) at 0 with %d nearly "
+                         "dependent row(s) left out, and no eigenvalues (bounded ARPACK attempt): "
+                         "raise analysis.arpack_maxiter", R->null_at_zero, kw);
+            else
+                snprintf(R->reason, sizeof R->reason, "%d null pivot(s) at 0 with %d nearly "
+                         "dependent row(s) left out, and eig1 = %.3g (a lower bound) not above "
+                         "%.2g: analysis.eigensolver = \"dense\" decides", R->null_at_zero, kw,
+                         R->eig[0], zero_eig);
         }
-        R->stable = R->morse == 0 && R->null_at_zero == 0;
+    } else if (done && kw > 0 && !clear) {
+        R->status = SF_SSTAB_UNKNOWN;
+        R->stable = -1;
+        snprintf(R->reason, sizeof R->reason, "eig1 = %.3g with %d nearly dependent row(s) left out "
+                 "is a lower bound only: analysis.eigensolver = \"dense\" decides", R->eig[0], kw);
     } else if (done) {
         R->status = R->attempts > 1 ? SF_SSTAB_RETRIED : SF_SSTAB_OK;
         R->stable = R->morse == 0 && R->eig[0] > 0.0;

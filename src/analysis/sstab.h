@@ -45,9 +45,15 @@
  * inertia alone, so also when ARPACK failed); stable when it is 0 and the
  * smallest eigenvalue is positive; unknown when the eigenvalues could not
  * be computed and the index is 0, or when the factorisation failed.
- * With SF_SSTAB_EIG_BOUNDED the inertia decides alone: stable when the
- * Morse index is 0 and K(0) has no null pivot (H_c positive definite),
- * unstable otherwise (an eigenvalue 0 to round-off is not stable).  An
+ * With SF_SSTAB_EIG_BOUNDED the inertia decides: stable when the Morse
+ * index is 0 and K(0) has no null pivot (H_c positive definite), unstable
+ * when the index is positive.  A null pivot at 0 (an eigenvalue 0 to
+ * round-off is not stable) is settled by the eigenvalues when they came:
+ * stable when eig1 lies above the null-pivot level (about 1e-12 max|diag
+ * HL|, MUMPS's CNTL(3)); otherwise not stable, or, with weak rows left
+ * out (whose eigenvalues are lower bounds only), unknown.  With weak rows
+ * left out and the full effort, a lower bound at or below that level is
+ * unknown too.  An
  * unknown stability is not an error: sf_sstab_eval returns SF_OK with
  * res.status = SF_SSTAB_UNKNOWN and the reason.  Errors (a non-zero
  * return) are bad arguments, non-finite entries and lack of memory.
