@@ -374,6 +374,115 @@ static void test_square4_double(void **state)
     sf_scene_close(&sc);
 }
 
+/* ---- guards: the step bound and a point of unknown index ------------- */
+
+/* The step bound (sf_bif_step_bound) on square4-inplane's flat branch,
+ * the tangent along p: from p = pbp - 0.012 the first eigenvalue crosses
+ * at pbp, the double one at pbp2 (both by bisection on the flat state),
+ * so the step is bounded to end between them.  Then the guard: when the
+ * eigenvalues handed in differ from those of the second evaluation by
+ * more than 1e-2 of the spectrum (two evaluations returning different
+ * eigenvalue sets, as the bounded ARPACK attempt of large sheets can), the
+ * slopes are meaningless (crossings predicted at about h = 1e-6) and no
+ * bound is given. */
+static void test_step_bound_guard(void **state)
+{
+    (void)state;
+    sf_scene sc;
+    open_scene(&sc, "square4-inplane", 0, NULL);
+    sf_equil eq;
+    study_problem(&sc, &eq);
+    sf_error err;
+    sf_error_clear(&err);
+    sf_stab st, st2;
+    CHECK_OK(sf_stab_init(&st, &eq, SF_EIG_DENSE, 4, &err), err);
+    CHECK_OK(sf_stab_init(&st2, &eq, SF_EIG_DENSE, 4, &err), err);
+    double *y0 = calloc((size_t)eq.n + 1, sizeof(double));
+    double *ty = calloc((size_t)eq.n + 1, sizeof(double));
+    assert_non_null(y0);
+    assert_non_null(ty);
+    double pbp = flat_zero(&st, &eq, y0, 0, 0.0, 0.6);
+    double pbp2 = flat_zero(&st, &eq, y0, 1, pbp + 1e-6, 0.6);
+    double pa = pbp - 0.012;
+    CHECK_OK(sf_stab_eval(&st, &eq, y0, pa, &err), err);
+    assert_int_equal(st.res.neig, 4);
+    cont_point pt = point(y0, pa, "");
+    pt.ty = ty;   /* unit tangent: along p alone */
+    pt.tp = 1.0;
+    double bound = sf_bif_step_bound(&st.res, &st2, &eq, &pt, 0.1);
+    print_message("# step bound from p = %.6f: %.6g (crossings at %.6f and %.6f)\n", pa, bound,
+                  pbp, pbp2);
+    assert_true(pa + bound > pbp && pa + bound < pbp2);
+    /* beyond the next step (ds_next short of pbp2): no bound */
+    CHECK_LE(sf_bif_step_bound(&st.res, &st2, &eq, &pt, 0.5 * (pbp + pbp2) - pa - 0.004), 0.0,
+             "bound beyond the next step");
+    /* eig1 and eig4 as another evaluation might have them, 2e-2 of the
+     * spectrum higher: without the guard, crossings predicted within about
+     * 1e-6 and a bound of that size */
+    double eig[4], scale = 0.0;
+    for (int j = 0; j < 4; j++) scale = fmax(scale, fabs(st.res.eig[j]));
+    for (int j = 0; j < 4; j++) eig[j] = st.res.eig[j];
+    eig[0] += 2e-2 * scale;
+    eig[3] += 2e-2 * scale;
+    sf_stab_result other = st.res;
+    other.eig = eig;
+    double b2 = sf_bif_step_bound(&other, &st2, &eq, &pt, 0.1);
+    print_message("# step bound from another eigenvalue set: %.3g\n", b2);
+    CHECK_LE(b2, 0.0, "no bound from two different eigenvalue sets");
+    free(ty);
+    free(y0);
+    sf_stab_free(&st2);
+    sf_stab_free(&st);
+    sf_equil_free(&eq);
+    sf_scene_close(&sc);
+}
+
+/* A point whose Morse index is unknown (an ambiguous KKT inertia: the
+ * sparse method writes morse_unknown, morse 0, no eigenvalues, stability
+ * unknown; its morse field is written empty) is no bracket end: between a
+ * (p = 0.6, index 0) and b (p = 0.7, index 1) on fold1-buckle's flat
+ * branch, an unknown point m at p = 0.66, past P_cr, is written; the
+ * check at m does nothing, and the check at b locates the crossing
+ * between a and b, at the closed form P_cr, the note naming a's row.
+ * Were m a bracket end (index 0 at 0.66), the crossing would be sought in
+ * [0.66, 0.7], where there is none. */
+static void test_unknown_index_skipped(void **state)
+{
+    (void)state;
+    fold1 f;
+    fold1_open(&f);
+    sf_error err;
+    sf_error_clear(&err);
+    double pa = 0.6, pm = 0.66, pb = 0.7, pcr = pcr_fold();
+    assert_true(pa < pcr && pcr < pm);
+    cont_point a = point(f.y0, pa, ""), m = point(f.y0, pm, ""), b = point(f.y0, pb, "");
+    CHECK_OK(sf_stab_eval(&f.st, &f.eq, f.y0, pa, &err), err);
+    assert_int_equal(f.st.res.morse, 0);
+    f.r.nrows = 1;
+    sf_bif_point_written(&f.bif, &a, pa);
+    /* m: what an ambiguous inertia leaves (stability.c, take_sparse_result) */
+    CHECK_OK(sf_stab_eval(&f.st, &f.eq, f.y0, pm, &err), err);
+    assert_int_equal(f.st.res.morse, 1);
+    f.st.res.morse_unknown = 1;
+    f.st.res.stable = -1;
+    CHECK_OK(sf_bif_check(&f.bif, &m, 0.0, 0, &err), err);
+    assert_int_equal(f.r.nemit, 0);
+    f.st.res.morse = 0;
+    f.st.res.neig = 0;
+    f.r.nrows = 2;
+    sf_bif_point_written(&f.bif, &m, pm);
+    CHECK_OK(sf_stab_eval(&f.st, &f.eq, f.y0, pb, &err), err);
+    assert_int_equal(f.st.res.morse, 1);
+    assert_int_equal(f.st.res.morse_unknown, 0);
+    CHECK_OK(sf_bif_check(&f.bif, &b, 0.0, 0, &err), err);
+    print_message("# unknown index at p = %.2f skipped: %s", pm, f.r.notes);
+    assert_int_equal(f.r.nemit, 1);
+    assert_string_equal(f.r.label[0], "BP");
+    CHECK_CLOSE(f.r.p[0], pcr, 1e-9 * pcr, "BP between a and b");
+    assert_non_null(strstr(f.r.notes, "between rows 0 and 3"));
+    fold1_close(&f);
+}
+
 int main(void)
 {
     const char *src = getenv("SF_SRCDIR");
@@ -384,6 +493,8 @@ int main(void)
         cmocka_unit_test(test_fold1_check),
         cmocka_unit_test(test_fold1_switch),
         cmocka_unit_test(test_square4_double),
+        cmocka_unit_test(test_step_bound_guard),
+        cmocka_unit_test(test_unknown_index_skipped),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
