@@ -306,7 +306,9 @@ int cont_create(const cont_problem *prob, int linsol, cont_solver **out)
                                                                  : (sunindextype)n * n) +
                         2 * (sunindextype)n + 1;
     if (ci_bm_init(s, &s->bk, m, linsol, bnnz, s->u) != CONT_OK ||
-        ci_bm_init(s, &s->bt, m, linsol, bnnz, s->u) != CONT_OK)
+        ci_bm_init(s, &s->bt, m, linsol, bnnz, s->u) != CONT_OK ||
+        (prob->jac_symmetric && prob->jac_matrix == CONT_MATRIX_SPARSE &&
+         linsol == CONT_LINSOL_MUMPS && ci_blk_init(s, &s->bt) != CONT_OK))
         return ci_fail(s, CONT_ENOMEM, "cannot create the %s linear solver (n = %ld)",
                     linsol == CONT_LINSOL_KLU ? "KLU" : linsol == CONT_LINSOL_MUMPS ? "MUMPS"
                                               : "dense", n);

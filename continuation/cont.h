@@ -135,7 +135,13 @@
  * CONT_LINSOL_MUMPS: MUMPS's unsymmetric multifrontal LU of the whole
  * bordered matrix (cont_mumps.h), METIS ordering, symbolic analysis redone
  * only when the pattern of the bordered matrix changes, workspace
- * relaxation doubled and the factorisation retried on INFO -8/-9.
+ * relaxation doubled and the factorisation retried on INFO -8/-9.  When
+ * the problem declares Jy symmetric (cont_problem.jac_symmetric), the
+ * corrector's and tangents' bordered systems are instead solved by block
+ * elimination on MUMPS's LDL^T of Jy alone (cont_blockelim.c), each solve
+ * checked against the bordered matrix, with this LU as the fallback where
+ * Jy is singular or the elimination inaccurate (continuation/README.md,
+ * "Block elimination"); KINSOL's systems stay LU.
  * CONT_LINSOL_KLU: KLU (COLAMD ordering), kept for comparison and for
  * banded problems, where it is faster than MUMPS (Bratu, n = 400, tests).
  * On saddle-point Jacobians (KKT matrices with a zero multiplier block)
@@ -284,6 +290,13 @@ typedef struct cont_problem {
     double pscale;
     const double *fscale;
     cont_anchor_fn anchor;        /* optional (NULL: none) */
+    /* nonzero: Jy is symmetric (to round-off) at every (y, p).  With a
+     * sparse Jy and MUMPS the tangent/corrector bordered systems are then
+     * solved by block elimination on the LDL^T of Jy, falling back to the
+     * LU of the whole bordered matrix where that is not accurate
+     * (continuation/README.md, "Block elimination"); checked: a Jy that
+     * is not symmetric is factorised whole. */
+    int jac_symmetric;
     void *user;                   /* passed to every callback */
 } cont_problem;
 
@@ -319,8 +332,11 @@ typedef struct cont_stats {
     long newton_iters;   /* KINSOL iterations (corrector, location, landing) */
     long nres;           /* residual evaluations */
     long njac;           /* Jacobian evaluations */
-    long nfactor;        /* LU factorisations of bordered matrices */
+    long nfactor;        /* factorisations of bordered matrices (LU, or block
+                            elimination on the LDL^T of a symmetric Jy) */
     long nlinsolve;      /* linear solves with those factors */
+    long nfallback;      /* block eliminations (jac_symmetric) given up for the
+                            LU of the whole bordered matrix */
     long retries;        /* rejected step attempts (step size cut) */
     long nlocate;        /* corrected trial points while locating zeros */
     double ds;           /* step size of the last accepted step */

@@ -2,7 +2,9 @@
  * ALGORITHM): the user's residual and Jacobian wrapped (counting,
  * non-finite checks, checks of a sparse Jy's pattern), and the bordered
  * matrices [Jy Fp; c^T]: assembly (dense or sparse CSC), LU factorisation
- * (LAPACK, KLU or MUMPS), sign and log of the determinant, solves. */
+ * (LAPACK, KLU or MUMPS; or by block elimination on the LDL^T of a
+ * symmetric Jy, cont_blockelim.c, with this LU as its fallback), sign and
+ * log of the determinant, solves. */
 #include "cont_impl.h"
 
 #include <stdlib.h>
@@ -125,6 +127,7 @@ int ci_bm_init(cont_solver *s, cont_bmat *bm, long m, int linsol,
 
 void ci_bm_free(cont_bmat *bm)
 {
+    ci_blk_free(bm);
     if (bm->LS) SUNLinSolFree(bm->LS);
     if (bm->A) SUNMatDestroy(bm->A);
     free(bm->pat_ptr);
@@ -203,6 +206,7 @@ static int bm_pattern_check(cont_bmat *bm)
     }
     memcpy(bm->pat_ptr, ptr, (size_t)(bm->m + 1) * sizeof *ptr);
     memcpy(bm->pat_idx, idx, (size_t)nnz * sizeof *idx);
+    ci_blk_new_pattern(bm);
     if (bm->mumps)
         cont_mumps_new_pattern(bm->LS);
     else if (bm->pat_valid)
@@ -275,12 +279,29 @@ static int perm_parity(const sunindextype *perm, long m, char *mark)
     return par;
 }
 
-/* LU-factorise bm; sign and log|.| of its determinant.  0 ok, -1 singular
- * or failed (reason in s->why). */
+static int bm_lu(cont_solver *s, cont_bmat *bm, int *sign, double *logdet);
+
+/* Factorise bm (LU, or block elimination where cont_blockelim.c allows
+ * it); sign and log|.| of its determinant.  0 ok, -1 singular or failed
+ * (reason in s->why). */
 int ci_bm_factor(cont_solver *s, cont_bmat *bm, int *sign, double *logdet)
 {
     s->stp.nfactor++;
     bm->gen++;
+    bm->blk_active = 0;
+    if (bm->blk) {
+        if (ci_blk_factor(s, bm) == 0) {
+            bm->blk_active = 1;
+            return ci_blk_det(bm, sign, logdet);
+        }
+        s->stp.nfallback++;
+    }
+    return bm_lu(s, bm, sign, logdet);
+}
+
+/* The LU factorisation of the whole bordered matrix. */
+static int bm_lu(cont_solver *s, cont_bmat *bm, int *sign, double *logdet)
+{
     int r = SUNLinSolSetup(bm->LS, bm->A);
     if (r != 0) {
         if (bm->mumps)
@@ -304,6 +325,7 @@ int ci_bm_det(cont_solver *s, cont_bmat *bm, int *sign, double *logdet)
     long m = bm->m;
     int sg = 1;
     double ld = 0.0;
+    if (bm->blk_active) return ci_blk_det(bm, sign, logdet);
     if (!bm->sparse) {
         const int *piv = cont_lapack_pivots(bm->LS);
         if (!piv) {
@@ -369,14 +391,30 @@ void ci_bm_apply(const cont_solver *s, const double *c, const double *v, double 
     out[n] = g;
 }
 
-/* Solve with the factors of bm: x = A^{-1} b (vectors of length bm->m). */
-int ci_bm_solve(cont_solver *s, cont_bmat *bm, N_Vector x, N_Vector b)
+/* Solve with the factors of bm: x = A^{-1} b (vectors of length bm->m).
+ * With block factors the solve is refined against A (cont_blockelim.c)
+ * unless raw, where the caller refines it against a matrix of its own. */
+int ci_bm_solve_as(cont_solver *s, cont_bmat *bm, N_Vector x, N_Vector b, int raw)
 {
     s->stp.nlinsolve++;
+    if (bm->blk_active) {
+        if (ci_blk_solve(s, bm, N_VGetArrayPointer(x), N_VGetArrayPointer(b), raw) == 0)
+            return 0;
+        /* the same matrix, factorised whole: the factors' generation and
+         * the determinant (same sign) stay */
+        bm->blk_active = 0;
+        s->stp.nfallback++;
+        if (bm_lu(s, bm, NULL, NULL) != 0) return -1;
+    }
     int r = SUNLinSolSolve(bm->LS, bm->A, x, b, 0.0);
     if (r != 0 || !ci_all_finite(N_VGetArrayPointer(x), bm->m)) {
         ci_why(s, "linear solve with the bordered matrix failed (flag %d)", r);
         return -1;
     }
     return 0;
+}
+
+int ci_bm_solve(cont_solver *s, cont_bmat *bm, N_Vector x, N_Vector b)
+{
+    return ci_bm_solve_as(s, bm, x, b, 0);
 }

@@ -327,20 +327,22 @@ int ci_correct_reuse(cont_solver *s, double *x, const double *c, const double *x
  * > 0, real eigenvalues of I - E positive and complex ones in conjugate
  * pairs, and det A has the sign of det B); done when the correction is
  * REFINE_TOL of |x|, or when it stalls below REFINE_FLOOR of |x| (rounding)
- * after contracting.  0, or -1 (factorise afresh). */
+ * after contracting.  The solves with B are not refined on their own (block
+ * elimination, cont_blockelim.c, is refined here against A instead).
+ * 0, or -1 (factorise afresh). */
 static int refine_solve(cont_solver *s, const double *c, const double *rhs, double *x,
                         double tol)
 {
     long m = s->m;
     double *r = N_VGetArrayPointer(s->vb), *dx = N_VGetArrayPointer(s->vx);
     memcpy(r, rhs, (size_t)m * sizeof(double));
-    if (ci_bm_solve(s, &s->bt, s->vx, s->vb) != 0) return -1;
+    if (ci_bm_solve_as(s, &s->bt, s->vx, s->vb, 1) != 0) return -1;
     memcpy(x, dx, (size_t)m * sizeof(double));
     double prev = HUGE_VAL;
     for (int it = 0; it < REFINE_MAX; it++) {
         ci_bm_apply(s, c, x, r);
         for (long i = 0; i < m; i++) r[i] = rhs[i] - r[i];
-        if (ci_bm_solve(s, &s->bt, s->vx, s->vb) != 0) return -1;
+        if (ci_bm_solve_as(s, &s->bt, s->vx, s->vb, 1) != 0) return -1;
         double nd = scaled_norm2(s, dx);
         for (long i = 0; i < m; i++) x[i] += dx[i];
         double nx = scaled_norm2(s, x);

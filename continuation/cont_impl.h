@@ -21,6 +21,9 @@
  *                     cont_run), delivery of points
  *   cont_switch.c     the new direction at a simple branch point
  *                     (cont_branch_direction)
+ *   cont_blockelim.c  the bordered factorisation and solves by block
+ *                     elimination on the LDL^T of a symmetric Jy, with the
+ *                     checks that fall back to the LU of cont_bordered.c
  */
 #ifndef CONT_IMPL_H
 #define CONT_IMPL_H
@@ -58,6 +61,10 @@ typedef struct cont_bmat {
     sunindextype pat_cap;
     int pat_valid;
     long gen;                 /* factorisations made so far (ci_bm_factor) */
+    /* block elimination on the LDL^T of a symmetric Jy (cont_blockelim.c):
+     * NULL unless the problem says Jy is symmetric and the solver is MUMPS */
+    struct cont_blk *blk;
+    int blk_active;           /* the current factors are blk's, not LS's */
 } cont_bmat;
 
 typedef struct cpt {
@@ -177,12 +184,21 @@ void ci_bm_free(cont_bmat *bm);
 int ci_bm_init(cont_solver *s, cont_bmat *bm, long m, int linsol,
                sunindextype nnz, N_Vector tmpl);
 int ci_bm_solve(cont_solver *s, cont_bmat *bm, N_Vector x, N_Vector b);
+int ci_bm_solve_as(cont_solver *s, cont_bmat *bm, N_Vector x, N_Vector b, int raw);
 int ci_call_jacobian(cont_solver *s, const double *y, double p);
 int ci_call_residual(cont_solver *s, const double *y, double p, double *F);
 sunindextype ci_jy_nnz(const cont_solver *s);
 void ci_jy_dense(const cont_solver *s, double *A, long ld);
 sunindextype ci_jy_column(const cont_solver *s, long j, sunindextype *bi, double *bx,
                           sunindextype k, double *norm2);
+
+/* cont_blockelim.c: block elimination on the LDL^T of a symmetric Jy */
+int ci_blk_init(cont_solver *s, cont_bmat *bm);
+void ci_blk_free(cont_bmat *bm);
+void ci_blk_new_pattern(cont_bmat *bm);
+int ci_blk_factor(cont_solver *s, cont_bmat *bm);
+int ci_blk_det(const cont_bmat *bm, int *sign, double *logdet);
+int ci_blk_solve(cont_solver *s, cont_bmat *bm, double *x, const double *b, int raw);
 
 /* cont_corrector.c: KINSOL corrector, Newton at fixed p */
 int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,

@@ -1,4 +1,5 @@
-/* cont_mumps.c - MUMPS unsymmetric LU as a SUNLinearSolver (cont_mumps.h). */
+/* cont_mumps.c - MUMPS unsymmetric LU, or LDL^T of a symmetric matrix, as
+ * a SUNLinearSolver (cont_mumps.h). */
 #include "cont_mumps.h"
 
 #include <math.h>
@@ -23,6 +24,7 @@ typedef struct mumps_content {
     DMUMPS_STRUC_C id;
     int inited;          /* job -1 done */
     int m;
+    int sym;             /* 2: symmetric (lower triangle given), LDL^T */
     int *irn, *jcn;      /* 1-based coordinates of the analysed pattern */
     long cap;
     int need_analysis;
@@ -115,6 +117,7 @@ static int ls_setup(SUNLinearSolver S, SUNMatrix A)
     id->a = SM_DATA_S(A);
     quiet(id);
     id->ICNTL(33) = 1;        /* determinant */
+    if (c->sym) id->ICNTL(24) = 1;   /* count null pivots (INFOG(28)) */
     for (;;) {
         id->job = 2;
         dmumps_c(id);
@@ -182,7 +185,7 @@ static int ls_free(SUNLinearSolver S)
     return SUNLS_SUCCESS;
 }
 
-SUNLinearSolver cont_mumps(N_Vector y, SUNMatrix A, SUNContext ctx)
+static SUNLinearSolver create(N_Vector y, SUNMatrix A, SUNContext ctx, int sym)
 {
     if (!A || SUNMatGetID(A) != SUNMATRIX_SPARSE || SM_SPARSETYPE_S(A) != CSC_MAT ||
         SM_ROWS_S(A) != SM_COLUMNS_S(A))
@@ -207,7 +210,8 @@ SUNLinearSolver cont_mumps(N_Vector y, SUNMatrix A, SUNContext ctx)
     c->need_analysis = 1;
     c->id.job = -1;
     c->id.par = 1;
-    c->id.sym = 0;            /* unsymmetric: [Jy Fp; c^T] is not symmetric */
+    c->sym = sym;
+    c->id.sym = sym;          /* 0: unsymmetric LU; 2: general symmetric LDL^T */
     c->id.comm_fortran = MUMPS_COMM_WORLD;
     dmumps_c(&c->id);
     if (c->id.INFOG(1) < 0) {
@@ -218,6 +222,22 @@ SUNLinearSolver cont_mumps(N_Vector y, SUNMatrix A, SUNContext ctx)
     quiet(&c->id);
     c->id.ICNTL(14) = RELAX0;
     return S;
+}
+
+SUNLinearSolver cont_mumps(N_Vector y, SUNMatrix A, SUNContext ctx)
+{
+    return create(y, A, ctx, 0);
+}
+
+SUNLinearSolver cont_mumps_sym(N_Vector y, SUNMatrix L, SUNContext ctx)
+{
+    return create(y, L, ctx, 2);
+}
+
+long cont_mumps_null_pivots(SUNLinearSolver S)
+{
+    const mumps_content *c = CONTENT(S);
+    return c->factored && c->sym ? (long)c->id.INFOG(28) : 0;
 }
 
 void cont_mumps_new_pattern(SUNLinearSolver S)

@@ -1,6 +1,8 @@
-/* cont_mumps.h - MUMPS (sequential, unsymmetric multifrontal LU) as a
- * SUNLinearSolver for a square CSC SUNSparseMatrix: the sparse solver of the
- * engine's bordered systems [Jy Fp; c^T] (CONT_LINSOL_MUMPS, cont.h).
+/* cont_mumps.h - MUMPS (sequential, unsymmetric multifrontal LU, or LDL^T
+ * of a symmetric matrix) as a SUNLinearSolver for a square CSC
+ * SUNSparseMatrix: the sparse solver of the engine's bordered systems
+ * [Jy Fp; c^T] (CONT_LINSOL_MUMPS, cont.h), and of a symmetric Jy alone for
+ * their block elimination (cont_blockelim.c).
  *
  * Setup analyses the pattern (METIS ordering) only when
  * cont_mumps_new_pattern was called since the last analysis (the engine
@@ -21,6 +23,16 @@
 /* A solver for the m x m CSC matrix A (m = length of y).  NULL on failure
  * (wrong matrix type, out of memory, MUMPS initialisation failed). */
 SUNLinearSolver cont_mumps(N_Vector y, SUNMatrix A, SUNContext ctx);
+
+/* The same for a symmetric matrix given by its lower triangle L (entries
+ * i >= j only): MUMPS's LDL^T with 1x1 and 2x2 pivots (SYM = 2), null
+ * pivots detected (ICNTL(24) = 1) and counted by cont_mumps_null_pivots;
+ * the determinant is that of the whole symmetric matrix. */
+SUNLinearSolver cont_mumps_sym(N_Vector y, SUNMatrix L, SUNContext ctx);
+
+/* After a setup of a cont_mumps_sym solver: the null pivots MUMPS found
+ * (INFOG(28); their rows were not factorised as they are), else 0. */
+long cont_mumps_null_pivots(SUNLinearSolver S);
 
 /* The next setup re-analyses the pattern. */
 void cont_mumps_new_pattern(SUNLinearSolver S);

@@ -16,6 +16,7 @@ void ci_flush_stats(cont_solver *s, double t0, int is_step)
     T->steps += P->steps; T->points += P->points; T->newton_iters += P->newton_iters;
     T->nres += P->nres; T->njac += P->njac; T->nfactor += P->nfactor;
     T->nlinsolve += P->nlinsolve; T->retries += P->retries; T->nlocate += P->nlocate;
+    T->nfallback += P->nfallback;
     T->wall += P->wall;
     if (is_step) {
         double ds = s->last.ds;

@@ -13,3 +13,9 @@ TESTS += tests/test_cont_reuse
 tests_test_cont_reuse_SOURCES = tests/test_cont_reuse.c tests/cont_test.h
 tests_test_cont_reuse_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_cont_reuse_LDADD = $(SF_TEST_LIBS)
+# block elimination on the LDL^T of a symmetric Jy against the bordered LU
+check_PROGRAMS += tests/test_cont_block
+TESTS += tests/test_cont_block
+tests_test_cont_block_SOURCES = tests/test_cont_block.c tests/cont_test.h
+tests_test_cont_block_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_cont_block_LDADD = $(SF_TEST_LIBS)

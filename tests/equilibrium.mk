@@ -22,6 +22,13 @@ tests_test_sstab_SOURCES = tests/test_sstab.c
 tests_test_sstab_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_sstab_LDADD = $(SF_TEST_LIBS)
 
+# the cost rules of the bounded effort (docs/stability.md, "Cost"), against closed forms
+check_PROGRAMS += tests/test_sstab_cost
+TESTS += tests/test_sstab_cost
+tests_test_sstab_cost_SOURCES = tests/test_sstab_cost.c
+tests_test_sstab_cost_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_sstab_cost_LDADD = $(SF_TEST_LIBS)
+
 # stability from the MUMPS inertia against the dense method along paths
 TESTS += tests/test_stab_inertia.sh
 EXTRA_DIST += tests/test_stab_inertia.sh

@@ -557,6 +557,11 @@ int sf_peq_create_solver(sf_equil *q, cont_solver **out)
     prob.yscale = q->yscale;
     prob.fscale = q->fscale;
     prob.anchor = sf_equil_anchor;
+    /* the Jacobian is the KKT matrix [H A^T; A -eps D] of a potential
+     * (bending, dead loads, gravity) with constraint rows and their
+     * transposes, H assembled symmetric: the engine factorises its LDL^T
+     * (and checks the symmetry, continuation/README.md) */
+    prob.jac_symmetric = 1;
     prob.user = q;
     *out = NULL;
     int rc = cont_create(&prob, sf_equil_sparse_linsol(q), out);   /* MUMPS unless "klu" */

@@ -19,6 +19,9 @@
 #define EXTRA 6            /* eigenvalues computed beyond those wanted */
 #define BOUNDED_ITERS 10   /* ARPACK restarts of the one attempt with SF_SSTAB_EIG_BOUNDED */
 #define BOUNDED_BELOW 8    /* factorisations of the search for a shift below the spectrum, bounded */
+#define BOUNDED_FULL 400   /* bounded: a tangent space up to this dimension gets a Krylov
+                              subspace as large as itself (ncv = dim), which resolves the
+                              eigenvalue clusters of flat sheets in a few restarts */
 #define WEAK_ROW 1e-8      /* a kept row closer than this to the span of the others (unit rows):
                               its pivot pair in K, about -dist^2 / h, can be lost to round-off */
 #define WEAK_MAX 1e-7      /* when K's count is inconsistent, the weakest rows up to this are
@@ -27,6 +30,7 @@
 struct sf_sstab {
     int n, m;
     sf_sstab_opts o;
+    int whole;             /* bounded with its own restart cap: small tangent spaces whole */
     sf_ldlt *f;
     sf_ldlt *fw;           /* K_w: K with the weak rows taken out (take_out_weak) */
     sf_ldlt *cur;          /* the factorisation in use: f, or fw when rows were taken out */
@@ -79,7 +83,10 @@ int sf_sstab_create(sf_sstab **out, int n, int m, const sf_sstab_opts *opts, sf_
     if (s->o.effort == SF_SSTAB_EIG_BOUNDED) {
         /* one attempt, a few restarts: eigenvalues only when they come cheap */
         s->o.attempts = 1;
-        if (!opts || opts->maxiter < 1) s->o.maxiter = BOUNDED_ITERS;
+        if (!opts || opts->maxiter < 1) {
+            s->o.maxiter = BOUNDED_ITERS;
+            s->whole = 1; /* with a cap of the caller's, ARPACK as the caller set it up */
+        }
     }
     s->rs = calloc((size_t)m + 1, sizeof(double));
     s->rnew = calloc((size_t)m + 1, sizeof(int));
@@ -165,7 +172,7 @@ static int assemble(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *er
     }
     int rc = sf_rowbasis_select(s->rows, C, s->rs, s->rnew, s->mnz, &s->mk, &s->spqr_failed, err);
     if (rc) return rc;
-    sf_rowbasis_counts(s->rows, &s->res.rank_qr, &s->res.rank_reused);
+    sf_rowbasis_counts(s->rows, &s->res.rank_qr, &s->res.rank_reused, &s->res.rank_checks);
     long need = (long)HL->colptr[n] + (m > 0 ? (long)C->colptr[n] : 0) + n + m;
     if (need > s->cap) {
         int *ti = realloc(s->ti, sizeof(int) * (size_t)need);
@@ -359,6 +366,10 @@ static void attempt_plan(const sf_sstab *s, int a, int morse, double sigma0, int
 {
     int base = 2 * nev + 1 > 20 ? 2 * nev + 1 : 20;
     int c = base << (a < 3 ? a : 3);
+    /* bounded (one attempt, BOUNDED_ITERS restarts): a small tangent space
+     * whole, as its eigenvalue cluster at a flat sheet needs (docs/stability.md,
+     * "Cost of the inertia method") */
+    if (s->whole && dim <= BOUNDED_FULL) c = dim;
     if (c > dim) c = dim;     /* the operator's rank (Krylov space beyond: zeros) */
     if (c < nev + 1) c = nev + 1;
     *ncv = c > s->n ? s->n : c;

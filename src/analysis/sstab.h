@@ -72,8 +72,10 @@ enum {
     SF_SSTAB_EIG_FULL = 0,    /* ARPACK attempts (retries, deflation) until found or spent */
     SF_SSTAB_EIG_BOUNDED = 1  /* stability and Morse index from the inertia alone; the
                                  eigenvalues only when ONE ARPACK attempt of at most
-                                 maxiter restarts (0: 10) converges and passes the Sturm
-                                 check, else none (neig = 0, status still OK) */
+                                 maxiter restarts (0: 10, and then a tangent space of at
+                                 most 400 dimensions whole, ncv = its dimension) converges
+                                 and passes the Sturm check, else none (neig = 0, status
+                                 still OK) */
 };
 
 typedef struct sf_sstab_opts {
@@ -104,6 +106,7 @@ typedef struct sf_sstab_result {
     int analyses;      /* MUMPS symbolic analyses so far (pattern changes) */
     int rank_qr;       /* rank-revealing QRs of C so far (sstab_rows.h) */
     int rank_reused;   /* evaluations so far that reused the independent rows of the last QR */
+    int rank_checks;   /* checks so far whether those rows still span C (sstab_rows.h) */
 } sf_sstab_result;
 
 typedef struct sf_sstab sf_sstab;

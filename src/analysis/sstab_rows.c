@@ -15,6 +15,7 @@
 #define OUT_TOL 1e-11   /* reuse: |d . u| of every other row at most this */
 #define FLOOR_TOL 1e-12 /* reuse: |c . u| of the rows of S (round-off) at most this */
 #define DRAWS 6         /* random vectors of the check */
+#define SQUARE_SKIP 7   /* after a failed check of a set of n rows, the next 7 go to the QR */
 
 struct sf_rowbasis {
     int n, m;
@@ -28,7 +29,8 @@ struct sf_rowbasis {
     double *w;           /* n + ns: right-hand side and solution */
     double *cu;          /* [m] C u */
     unsigned long long seed;
-    int qr, reused;
+    int qr, reused, checks;
+    int square_skip;     /* checks of a set of n rows left out (straight to the QR) */
     double *resid;       /* [m] Heath residual |R(k,k)| of a row of S at the last QR */
 };
 
@@ -76,10 +78,11 @@ const double *sf_rowbasis_resid(const sf_rowbasis *b)
     return b->resid;
 }
 
-void sf_rowbasis_counts(const sf_rowbasis *b, int *qr, int *reused)
+void sf_rowbasis_counts(const sf_rowbasis *b, int *qr, int *reused, int *checks)
 {
     *qr = b->qr;
     *reused = b->reused;
+    *checks = b->checks;
 }
 
 /* Rank and independent rows of the scaled nonzero rows of C: sparse QR
@@ -271,10 +274,19 @@ int sf_rowbasis_select(sf_rowbasis *b, const sf_csc *C, double *rs, int *rnew, i
     *failed = 0;
     if (mnz == 0 || !C) return SF_OK;
     int ok = 0;
-    if (b->ns > 0) {
+    /* S of n rows (no tangent space): Cs square, u = 0 up to its round-off,
+     * which on nearly dependent rows exceeds the check's bounds (the 8 x 8
+     * Miura actuation path: 107 failed checks of 107); after a failure the
+     * next SQUARE_SKIP such checks are left out and the QR decides, as it
+     * would after the failed check */
+    if (b->ns > 0 && b->ns == b->n && b->square_skip > 0) {
+        b->square_skip--;
+    } else if (b->ns > 0) {
+        b->checks++;
         ok = still_spans(b, C, rs, rnew, err);
         if (ok < 0) return -ok;
         if (ok) b->reused++;
+        else if (b->ns == b->n) b->square_skip = SQUARE_SKIP;
     }
     if (!ok) {
         int rc = qr_rows(b, C, rs, rnew, mnz, err);

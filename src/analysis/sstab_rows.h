@@ -45,7 +45,10 @@ int sf_rowbasis_select(sf_rowbasis *b, const sf_csc *C, double *rs, int *rnew, i
  * the unit rows); 0 for other rows. */
 const double *sf_rowbasis_resid(const sf_rowbasis *b);
 
-/* Counts since creation: rank-revealing QRs, points whose set was reused. */
-void sf_rowbasis_counts(const sf_rowbasis *b, int *qr, int *reused);
+/* Counts since creation: rank-revealing QRs, points whose set was reused,
+ * checks made (a set of n rows, Cs square, is not checked again for the
+ * next 7 points after a failed check: the QR decides, as after a failure;
+ * its round-off fails the check on nearly dependent rows, docs/stability.md). */
+void sf_rowbasis_counts(const sf_rowbasis *b, int *qr, int *reused, int *checks);
 
 #endif
