@@ -37,7 +37,9 @@
  * the lower of the two is kept.  A last start, that state with its mode
  * amplitudes negated (its other unknowns kept as the first guess, a small
  * iteration budget), tells a symmetric start (a distinct solution of
- * equal energy) from a selected one. */
+ * equal energy) from a selected one.  These two extra starts are left
+ * when, after their first stage, they fall back towards the flat state
+ * (analysis.flat_collapse): energy 0 there, above any state kept. */
 #include "flatlimit_sparse.h"
 
 #include <math.h>
@@ -49,6 +51,7 @@
 #include "flatrigid.h"
 #include "ldlt.h"
 #include "poses.h"
+#include "study.h"
 
 #define DELTA_S 1e-10    /* delta, scaled */
 #define REG_S 1e-12      /* eta of the last stage, scaled */
@@ -74,6 +77,11 @@ typedef struct lim_ws {
     double *hc;       /* the rows' Hessians at the flat state (gx_rows) */
     int hc_filled;
     double last_shift;   /* the last shift that gave the right inertia */
+    double last_big;     /* the last shift a climb ended at */
+    double collapse;     /* analysis.flat_collapse: an extra start is left when its fold
+                          * amplitude falls below this fraction of collapse_ref */
+    int collapse_on;     /* an extra start: left when it falls back to the flat state */
+    double collapse_ref; /* its fold amplitude where the first stage converged (0: not yet) */
     sf_ldlt *f;
     const double *y0;
     double p0;
@@ -340,7 +348,8 @@ static double fold_max(const lim_ws *L, const double *x)
 }
 
 /* Newton with inertia correction at a fixed eta; 0 when converged to a
- * state of the right inertia. */
+ * state of the right inertia, 2 when an extra start falls back to the
+ * flat state (analysis.flat_collapse), 1 otherwise. */
 static int lw_stage(lim_ws *L, double *w, double eta, double tol, int maxit, int *its, int *pushes,
                     double *res, sf_error *err)
 {
@@ -370,14 +379,23 @@ static int lw_stage(lim_ws *L, double *w, double eta, double tol, int maxit, int
          * instead of trying 0 every time).  With a quarter (the former
          * rule) a shift that had grown to 67 in the first stage's crawl
          * took about 12 iterations of damped steps to fall back to 0 once
-         * the inertia no longer needed it (docs/flatstart.md) */
+         * the inertia no longer needed it (docs/flatstart.md).  When the
+         * first try fails the second is at least the shift the last climb
+         * ended at / SHIFT_DECAY: the shift decays in the crawl and climbs
+         * back from 1e-5..1e-3 to 1..67, 8 to 12 factorisations by
+         * factors of 4 (12x12 Miura sheet: 241 factorisations, now 203,
+         * the same iterations and states) */
         double shift = L->last_shift >= 1e-6 * SHIFT_DECAY ? L->last_shift / SHIFT_DECAY : 0.0;
+        int tries = 0;
         for (int k = 0; k < 40; k++) {
+            tries++;
             if (lw_shifted(L, shift, &neg, err)) return -1;
             if (neg <= target) break;
-            shift = shift > 0 ? 4.0 * shift : 1e-6;
+            shift = k == 0 ? fmax(shift > 0 ? 4.0 * shift : 1e-6, L->last_big / SHIFT_DECAY)
+                           : 4.0 * shift;
         }
         L->last_shift = shift;
+        if (tries > 1) L->last_big = shift;   /* a climb: its end */
         (*its)++;
         double *s = malloc(sizeof(double) * (size_t)N);
         if (!s) return sf_fail(err, SF_ENOMEM, "out of memory"), -1;
@@ -399,6 +417,12 @@ static int lw_stage(lim_ws *L, double *w, double eta, double tol, int maxit, int
         double sc = sm > CAP * xm ? CAP * xm / sm : 1.0;
         for (int i = 0; i < N; i++) w[i] += sc * s[i];
         free(s);
+        /* an extra start falling back to the flat state after its first
+         * stage: the 16x16 Miura sheet's rigid start, whose fold amplitude
+         * halved at every step of the last stage, each factorisation
+         * there 10 times the cost of one in the first stage (MUMPS near
+         * a singular matrix): 40 iterations of about 1.5 s CPU */
+        if (L->collapse_ref > 0 && fold_max(L, w) < L->collapse * L->collapse_ref) return 2;
     }
     return 1;
 }
@@ -437,11 +461,19 @@ static int lw_solve(lim_ws *L, double *w, double tol, int maxit, sf_flatlimit_in
         info->stages = st + 1;
         info->residual = res;
         if (rc < 0) return err->code;
+        if (rc == 2) {
+            info->collapsed = 1;
+            return sf_fail(err, SF_ENUMERIC, "the sparse limit problem falls back to the flat "
+                           "state at penalty stage %d of %d (fold amplitude below %g of its value "
+                           "at stage 1 after %d Newton iterations)", st + 1, NSTAGES, L->collapse,
+                           info->iterations);
+        }
         if (rc > 0)
             return sf_fail(err, SF_ENUMERIC, "the sparse limit problem of the flat state does not "
                            "converge at penalty stage %d of %d (scaled residual %.3g after %d "
                            "Newton iterations, %d saddles left)", st + 1, NSTAGES, res,
                            info->iterations, info->pushes);
+        if (st == 0 && L->collapse_on) L->collapse_ref = fold_max(L, w);
     }
     info->stable = 1;
     return lw_energy(L, w, &info->energy, err);
@@ -458,9 +490,11 @@ static void imperfect(const sf_model *m, double *x, double rel)
 /* One candidate: from the start (nstart values of w: x, mu, then z, nu;
  * the others 0) with the mode imperfection rel, at most maxit Newton
  * iterations per stage.  0 converged, > 0 not, < 0 error in err. */
-static int candidate(lim_ws *L, const double *start, int nstart, double rel, int maxit, double *w,
-                     sf_flatlimit_info *info, sf_error *err)
+static int candidate(lim_ws *L, const double *start, int nstart, double rel, int maxit, int extra,
+                     double *w, sf_flatlimit_info *info, sf_error *err)
 {
+    L->collapse_on = extra;
+    L->collapse_ref = 0.0;
     int n = L->n;
     memset(w, 0, sizeof(double) * 2 * (size_t)n);
     memcpy(w, start, sizeof(double) * (size_t)nstart);
@@ -520,7 +554,7 @@ static int extra_candidate(lim_ws *L, const double *st, double imperf, int maxit
 {
     sf_error ce;
     sf_error_clear(&ce);
-    int r = candidate(L, st, 2 * L->n, imperf, maxit, wc, ci, &ce);
+    int r = candidate(L, st, 2 * L->n, imperf, maxit, 1, wc, ci, &ce);
     info->starts++;
     info->iterations += ci->iterations;
     info->pushes += ci->pushes;
@@ -531,7 +565,7 @@ static int extra_candidate(lim_ws *L, const double *st, double imperf, int maxit
     }
     *k = info->ncand++;
     info->cand_kind[*k] = kind;
-    info->cand_conv[*k] = !r;
+    info->cand_conv[*k] = !r ? 1 : ci->collapsed ? -1 : 0;
     info->cand_energy[*k] = NAN;
     info->converged += !r;
     return r;
@@ -547,6 +581,7 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
     info->energy_alt = NAN;
     double *st = NULL, *wc = NULL;
     if ((rc = lw_init(&L, q, y0, p0, err))) goto out;
+    if ((rc = sf_study_double(m->study, "analysis.flat_collapse", 0.25, &L.collapse, err))) goto out;
     st = malloc(sizeof(double) * 2 * (size_t)n);
     wc = malloc(sizeof(double) * 2 * (size_t)n);
     if (!st || !wc) {
@@ -556,7 +591,7 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
     sf_flatlimit_info ci;
     sf_error ce;
     sf_error_clear(&ce);
-    int r = candidate(&L, u, n, imperf, MAXIT, w, info, &ce);
+    int r = candidate(&L, u, n, imperf, MAXIT, 0, w, info, &ce);
     info->starts = 1;
     if (r) {
         *err = ce;

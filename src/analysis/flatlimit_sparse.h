@@ -37,7 +37,8 @@ typedef struct sf_flatlimit_info {
      * budget (a stable limit state: the inertia is checked), and then its
      * energy, NAN when the mirror came back to the state it started from */
     int ncand;
-    int cand_kind[3], cand_conv[3];
+    int cand_kind[3], cand_conv[3];   /* cand_conv -1: left, falling back to the flat state */
+    int collapsed;      /* the last start was left falling back to the flat state */
     double cand_energy[3];
 } sf_flatlimit_info;
 

@@ -56,6 +56,10 @@
 #include "ldlt.h"
 #include "study.h"
 
+/* the first point's Newton stops when SLOW_SPAN unshifted iterations gain
+ * less than a factor 2 (linear convergence: a singular Jacobian) */
+#define SLOW_SPAN 10
+
 /* The scaled KKT matrix A = D (Jy + delta P) D of the Newton systems,
  * D = sqrt(fscale / yscale) (the Newton scales of equilibrium_poses.c make
  * A a matrix of O(1) entries, symmetric as Jy is), P the identity on the
@@ -224,9 +228,11 @@ static void perturb_modes(const sf_model *m, double *y, double rel, int push)
  * fold coordinates move by at most `cap` per iteration.  0 when converged
  * (scaled residual <= tol). */
 static int descent(sf_equil *q, kkt_ws *w, double *y, double p, double tol, double cap, int maxit,
-                   int *iters, double *fres, sf_error *err)
+                   int *iters, double *fres, int *slow, sf_error *err)
 {
-    int n = q->n, nq = q->m->nq, rc = 1, pushes = 0;
+    int n = q->n, nq = q->m->nq, rc = 1, pushes = 0, unshifted = 0;
+    double hist[SLOW_SPAN];   /* the residuals of the last unshifted iterations */
+    *slow = 0;
     double *F = malloc(sizeof(double) * (size_t)n), *Fp = malloc(sizeof(double) * (size_t)n);
     if (!F || !Fp) {
         rc = sf_fail(err, SF_ENOMEM, "out of memory");
@@ -238,6 +244,15 @@ static int descent(sf_equil *q, kkt_ws *w, double *y, double p, double tol, doub
         double fs = 0.0;
         for (int i = 0; i < n; i++) fs = fmax(fs, fabs(F[i] * q->fscale[i]));
         *fres = fs;
+        /* Newton without shift that gains less than a factor 2 in
+         * SLOW_SPAN iterations: linear convergence, a singular Jacobian at
+         * the state (the 8x8 Miura sheet under load: 0.97 per iteration
+         * near 1e-7, 100 iterations per attempt) */
+        if (unshifted >= SLOW_SPAN && fs > 0.5 * hist[(unshifted - SLOW_SPAN) % SLOW_SPAN] &&
+            fs < 1e-4) {
+            *slow = 1;
+            break;
+        }
         double delta = 0.0;
         int neg = 0;
         for (int k = 0; k < 40; k++) {
@@ -253,6 +268,8 @@ static int descent(sf_equil *q, kkt_ws *w, double *y, double p, double tol, doub
             if (neg <= q->ncon) break;
             delta = delta > 0 ? 4.0 * delta : 1e-6;
         }
+        if (delta > 0) unshifted = 0;
+        else hist[unshifted++ % SLOW_SPAN] = fs;
         for (int i = 0; i < n; i++) F[i] = -F[i];
         if (ws_solve(w, F, err)) goto out;
         double mx = 0.0;
@@ -274,7 +291,7 @@ out:
  * p0 + t by descent(), then cont_start there.  0 on success. */
 static int attempt(sf_equil *q, struct cont_solver *cs, kkt_ws *w, const double *y0, double p0,
                    int dir, const double *u, const double *W, double h, double tol, double *y,
-                   int *iters, sf_error *err)
+                   int *iters, double *fres_out, int *slow, sf_error *err)
 {
     int n = q->n, nq = q->m->nq, nx = q->nq;
     double t = dir * h;
@@ -291,9 +308,16 @@ static int attempt(sf_equil *q, struct cont_solver *cs, kkt_ws *w, const double 
     double fres = INFINITY;
     /* fold coordinates move by at most a quarter of the step per iteration */
     double cap = 0.25 * h * max_angle(q->m, W ? W : u);
-    if (descent(q, w, y, p0 + t, fmax(tol, 1e-9), cap, 100, iters, &fres, err)) {
-        if (!err->code) sf_fail(err, SF_ENUMERIC, "Newton with inertia correction at p = %g: scaled "
-                                "residual %.3g after %d iterations", p0 + t, fres, *iters);
+    int rc = descent(q, w, y, p0 + t, fmax(tol, 1e-9), cap, 100, iters, &fres, slow, err);
+    *fres_out = fres;
+    if (rc) {
+        if (!err->code && *slow)
+            sf_fail(err, SF_ENUMERIC, "Newton with inertia correction at p = %g converges only "
+                    "linearly (scaled residual %.3g after %d iterations, less than a factor 2 in "
+                    "the last %d: a singular Jacobian there)", p0 + t, fres, *iters, SLOW_SPAN);
+        else if (!err->code)
+            sf_fail(err, SF_ENUMERIC, "Newton with inertia correction at p = %g: scaled "
+                    "residual %.3g after %d iterations", p0 + t, fres, *iters);
         return 1;
     }
     if (cont_start(cs, y, p0 + t, dir) != CONT_OK)
@@ -349,12 +373,16 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
     double h = angle / max_angle(m, lim ? W : u);
     if (max_dp > 0 && h > max_dp) h = max_dp;
     char why[1100] = "";
-    int halvings, its = 0;
+    int halvings, its = 0, nslow = 0;
+    double last_res = NAN;   /* the first point's last scaled residual */
     for (halvings = 0; halvings <= 4; halvings++, h *= 0.5) {
         sf_error aerr;
         sf_error_clear(&aerr);
-        if (attempt(q, cs, &w, yf, p0, dir, u, lim ? W : NULL, h, tol, y, &its, &aerr)) {
+        int slow = 0;
+        if (attempt(q, cs, &w, yf, p0, dir, u, lim ? W : NULL, h, tol, y, &its, &last_res,
+                    &slow, &aerr)) {
             snprintf(why, sizeof why, "%s", aerr.msg);
+            nslow += slow;
             continue;
         }
         const cont_point *pt = cont_get_point(cs);
@@ -369,12 +397,30 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
         else
             snprintf(lim_why, sizeof lim_why, "along the first-order response: the sparse limit "
                      "problem failed (%.200s)", lerr.msg);
-        rc = sf_fail(err, SF_ENUMERIC, "%s: flat start (sparse): no equilibrium found off the flat "
-                     "state %s (first step %.3g rad on the largest fold angle, "
-                     "halved 4 times; last: %s); try a smaller analysis.flat_angle, "
-                     "analysis.flat_start = \"limit\" (dense tangent-cone analysis, small "
-                     "sheets), or a driving that selects a branch (folds[].assignment, a load)",
-                     path, lim_why, angle, why);
+        /* Newton converging linearly at most of the steps: a singular
+         * Jacobian at the state it approaches (the 8x8 Miura sheet under
+         * gravity and a tip load: residual ratio 0.97 per iteration near
+         * 1e-7 at every step; with solver.tolerance = 1e-7 the engine's
+         * Newton then stalls there) */
+        if (lim && nslow >= 3)
+            rc = sf_fail(err, SF_ENUMERIC, "%s: flat start (sparse): no equilibrium found off the "
+                         "flat state %s: at %d of 5 steps (from %.3g rad on the largest fold "
+                         "angle, halved 4 times) Newton converged only linearly (scaled residual "
+                         "%.2g at the last), i.e. its Jacobian is singular at the state it "
+                         "approaches: probably a degenerate ray of the tangent cone, whose loop "
+                         "rows resist a motion only beyond second order (docs/flatstart.md, "
+                         "\"Degenerate rays\"); a smaller analysis.flat_angle or a looser "
+                         "solver.tolerance does not help; try a driving that selects a regular "
+                         "branch (e.g. a small actuation with the load), solver.constraints = "
+                         "\"penalty\", or analysis.flat_start = \"limit\" (dense; small sheets)",
+                         path, lim_why, nslow, angle, last_res);
+        else
+            rc = sf_fail(err, SF_ENUMERIC, "%s: flat start (sparse): no equilibrium found off the flat "
+                         "state %s (first step %.3g rad on the largest fold angle, "
+                         "halved 4 times; last: %s); try a smaller analysis.flat_angle, "
+                         "analysis.flat_start = \"limit\" (dense tangent-cone analysis, small "
+                         "sheets), or a driving that selects a branch (folds[].assignment, a load)",
+                         path, lim_why, angle, why);
         goto out;
     }
     const cont_point *pt = cont_get_point(cs);
@@ -404,8 +450,11 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
                                           li.cand_energy[k], fol);
                 else
                     o += (size_t)snprintf(cands + o, sizeof cands - o, "%s%s: %s", sep, nm,
-                                          li.cand_conv[k] ? "the same state"
-                                                          : "no convergence within its budget");
+                                          li.cand_conv[k] > 0 ? "the same state"
+                                          : li.cand_conv[k] < 0 ? "left, falling back to the flat "
+                                                                  "state after its first stage"
+                                                                : "no convergence within its "
+                                                                  "budget");
             }
         }
         if (lim && li.ties)
