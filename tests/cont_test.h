@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <sunmatrix/sunmatrix_sparse.h>
@@ -134,6 +135,43 @@ static inline int bratu_jac_sparse(const double *u, double lam, SUNMatrix J, dou
     }
     ptr[N] = k;
     return 0;
+}
+
+/* Two paths of n unknowns side by side: the largest differences of their
+ * points and of their tangents (relative to 1 + |b's value|) over the
+ * points both have, and the largest residual of a's points; the points'
+ * determinant signs and types must match. */
+typedef struct path_diff {
+    double dx, dt, rmax;
+} path_diff;
+
+static inline double rel_diff(double a, double b) { return fabs(a - b) / (1.0 + fabs(b)); }
+
+static inline path_diff compare_paths(const cont_solver *a, const cont_solver *b, long n,
+                                      int (*res)(const double *, double, double *, void *),
+                                      void *user, const char *what)
+{
+    path_diff d = {0.0, 0.0, 0.0};
+    long np = cont_num_points(a) < cont_num_points(b) ? cont_num_points(a) : cont_num_points(b);
+    double *F = malloc(sizeof(double) * (size_t)n);
+    CHECK_TRUE(F != NULL, "%s: out of memory", what);
+    for (long k = 0; k < np; k++) {
+        const cont_point *pa = cont_point_at(a, k), *pb = cont_point_at(b, k);
+        d.dx = fmax(d.dx, rel_diff(pa->p, pb->p));
+        d.dt = fmax(d.dt, rel_diff(pa->tp, pb->tp));
+        for (long i = 0; i < n; i++) {
+            d.dx = fmax(d.dx, rel_diff(pa->y[i], pb->y[i]));
+            d.dt = fmax(d.dt, rel_diff(pa->ty[i], pb->ty[i]));
+        }
+        CHECK_TRUE(pa->det_sign == pb->det_sign, "%s: point %ld det sign %d against %d", what,
+                   k, pa->det_sign, pb->det_sign);
+        CHECK_TRUE(pa->type == pb->type, "%s: point %ld type %d against %d", what, k,
+                   pa->type, pb->type);
+        res(pa->y, pa->p, F, user);
+        for (long i = 0; i < n; i++) d.rmax = fmax(d.rmax, fabs(F[i]));
+    }
+    free(F);
+    return d;
 }
 
 #endif

@@ -126,8 +126,6 @@ static void finish(run *r, cont_solver *s)
     r->s = s;
 }
 
-static double rel(double a, double b) { return fabs(a - b) / (1.0 + fabs(b)); }
-
 /* The paths of a (flagged symmetric) and b (LU) agree to 1e-9; a's
  * residuals are below ftol. */
 static void compare(const run *a, const run *b, res_fn res, void *user, const char *what)
@@ -135,22 +133,8 @@ static void compare(const run *a, const run *b, res_fn res, void *user, const ch
     long np = cont_num_points(a->s);
     CHECK_TRUE(np == cont_num_points(b->s) && np > 10, "%s: %ld points against %ld", what, np,
                cont_num_points(b->s));
-    double F[N], dx = 0.0, dt = 0.0, rmax = 0.0;
-    for (long k = 0; k < np && k < cont_num_points(b->s); k++) {
-        const cont_point *pa = cont_point_at(a->s, k), *pb = cont_point_at(b->s, k);
-        dx = fmax(dx, rel(pa->p, pb->p));
-        dt = fmax(dt, rel(pa->tp, pb->tp));
-        for (long i = 0; i < N; i++) {
-            dx = fmax(dx, rel(pa->y[i], pb->y[i]));
-            dt = fmax(dt, rel(pa->ty[i], pb->ty[i]));
-        }
-        CHECK_TRUE(pa->det_sign == pb->det_sign, "%s: point %ld det sign %d against %d", what,
-                   k, pa->det_sign, pb->det_sign);
-        CHECK_TRUE(pa->type == pb->type, "%s: point %ld type %d against %d", what, k,
-                   pa->type, pb->type);
-        res(pa->y, pa->p, F, user);
-        for (long i = 0; i < N; i++) rmax = fmax(rmax, fabs(F[i]));
-    }
+    path_diff d = compare_paths(a->s, b->s, N, res, user, what);
+    double dx = d.dx, dt = d.dt, rmax = d.rmax;
     print_message("# %s: %ld points agree to %.2g, tangents to %.2g, largest residual %.2g; "
                   "factorisations %ld (%ld fell back to the LU) against %ld; solves %ld "
                   "against %ld\n", what, np, dx, dt, rmax, a->tot.nfactor, a->tot.nfallback,
