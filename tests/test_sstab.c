@@ -119,6 +119,16 @@ static void test_ldlt_chain(void **state)
     assert_int_equal(in.neg, 0);
     assert_int_equal(in.analyses, 1);
     assert_int_equal(in.factorisations, 2);
+    /* told to forget it: a second analysis, same inertia and solution */
+    sf_ldlt_forget_analysis(f);
+    assert_int_equal(sf_ldlt_factor(f, n, t, ri, cj, v, &err), SF_OK);
+    sf_ldlt_get_info(f, &in);
+    assert_int_equal(in.analyses, 2);
+    assert_int_equal(in.factorisations, 3);
+    assert_int_equal(in.neg, 0);
+    for (int i = 0; i < n; i++) b[i] = 3.0 - (i > 0) - (i + 1 < n);
+    assert_int_equal(sf_ldlt_solve(f, b, &err), SF_OK);
+    for (int i = 0; i < n; i++) CHECK_CLOSE(b[i], 1.0, 1e-12, "x[%d] after a fresh analysis", i);
     sf_ldlt_free(f);
 }
 

@@ -165,6 +165,12 @@ int sf_ldlt_factor(sf_ldlt *f, int n, long nnz, const int *row, const int *col,
     return SF_OK;
 }
 
+void sf_ldlt_forget_analysis(sf_ldlt *f)
+{
+    f->analysed = 0;
+    f->factored = 0;
+}
+
 int sf_ldlt_solve(sf_ldlt *f, double *b, sf_error *err)
 {
     if (!f->factored) return sf_fail(err, SF_EINTERNAL, "ldlt: solve without factors");

@@ -40,6 +40,9 @@ int sf_ldlt_factor(sf_ldlt *f, int n, long nnz, const int *row, const int *col,
 
 /* Solve A x = b in place (b has n entries) with the last factors. */
 int sf_ldlt_solve(sf_ldlt *f, double *b, sf_error *err);
+/* The next sf_ldlt_factor analyses its matrix afresh even when the pattern is
+ * unchanged (MUMPS's analysis depends on the values it was made with). */
+void sf_ldlt_forget_analysis(sf_ldlt *f);
 
 typedef struct sf_ldlt_info {
     int n;
