@@ -328,50 +328,72 @@ static void test_fold1_switch(void **state)
 
 /* ---- square4-inplane: a double crossing -------------------------------- */
 
+/* square4-inplane's flat branch with the dense stability: the first
+ * eigenvalue crosses zero at pbp, the double one at pbp2 (bisection on the
+ * flat state, y0 = 0). */
+typedef struct square4 {
+    sf_scene sc;
+    sf_equil eq;
+    sf_stab st;
+    double *y0;
+    double pbp, pbp2;
+} square4;
+
+static void square4_open(square4 *q)
+{
+    sf_error err;
+    sf_error_clear(&err);
+    open_scene(&q->sc, "square4-inplane", 0, NULL);
+    study_problem(&q->sc, &q->eq);
+    CHECK_OK(sf_stab_init(&q->st, &q->eq, SF_EIG_DENSE, 4, &err), err);
+    q->y0 = calloc((size_t)q->eq.n + 1, sizeof(double));
+    assert_non_null(q->y0);
+    q->pbp = flat_zero(&q->st, &q->eq, q->y0, 0, 0.0, 0.6);
+    q->pbp2 = flat_zero(&q->st, &q->eq, q->y0, 1, q->pbp + 1e-6, 0.6);
+}
+
+static void square4_close(square4 *q)
+{
+    sf_stab_free(&q->st);
+    free(q->y0);
+    sf_equil_free(&q->eq);
+    sf_scene_close(&q->sc);
+}
+
 static void test_square4_double(void **state)
 {
     (void)state;
-    sf_scene sc;
-    open_scene(&sc, "square4-inplane", 0, NULL);
-    sf_equil eq;
-    study_problem(&sc, &eq);
+    square4 q;
+    square4_open(&q);
     sf_error err;
     sf_error_clear(&err);
-    sf_stab st;
-    CHECK_OK(sf_stab_init(&st, &eq, SF_EIG_DENSE, 4, &err), err);
-    double *y0 = calloc((size_t)eq.n + 1, sizeof(double));
-    assert_non_null(y0);
-    double pbp = flat_zero(&st, &eq, y0, 0, 0.0, 0.6);
-    double pbp2 = flat_zero(&st, &eq, y0, 1, pbp + 1e-6, 0.6);
-    double pbp3 = flat_zero(&st, &eq, y0, 2, pbp + 1e-6, 0.6);
+    double pbp = q.pbp, pbp2 = q.pbp2;
+    double pbp3 = flat_zero(&q.st, &q.eq, q.y0, 2, pbp + 1e-6, 0.6);
     CHECK_CLOSE(pbp3, pbp2, 1e-9 * pbp2, "eig2 and eig3 vanish together");
     rec r;
     memset(&r, 0, sizeof r);
-    r.st = &st;
+    r.st = &q.st;
     sf_bif_hooks h = {&r, rec_note, rec_emit, NULL, NULL};
     sf_bif bif;
-    sf_bif_init(&bif, &eq, &st, sc.study.tolerance, 1, &r.nrows, &h);
+    sf_bif_init(&bif, &q.eq, &q.st, q.sc.study.tolerance, 1, &r.nrows, &h);
     /* a just past the first (simple) crossing, b past the double one */
     double pa = pbp + 0.005, pb = pbp2 + 0.005;
-    cont_point a = point(y0, pa, ""), b = point(y0, pb, "");
-    CHECK_OK(sf_stab_eval(&st, &eq, y0, pa, &err), err);
-    assert_int_equal(st.res.morse, 1);
+    cont_point a = point(q.y0, pa, ""), b = point(q.y0, pb, "");
+    CHECK_OK(sf_stab_eval(&q.st, &q.eq, q.y0, pa, &err), err);
+    assert_int_equal(q.st.res.morse, 1);
     r.nrows = 1;
     sf_bif_point_written(&bif, &a, pa);
-    CHECK_OK(sf_stab_eval(&st, &eq, y0, pb, &err), err);
-    assert_int_equal(st.res.morse, 3);
+    CHECK_OK(sf_stab_eval(&q.st, &q.eq, q.y0, pb, &err), err);
+    assert_int_equal(q.st.res.morse, 3);
     CHECK_OK(sf_bif_check(&bif, &b, 0.0, 0, &err), err);
     assert_int_equal(r.nemit, 1);
     assert_string_equal(r.label[0], "BP2");
     assert_int_equal(r.has_ty[0], 0);          /* not switched at */
     CHECK_CLOSE(r.p[0], pbp2, 1e-8 * pbp2, "BP2 against bisection on the flat state");
     assert_non_null(strstr(r.notes, "a multiple branch point"));
-    assert_int_equal(st.res.morse, 3);         /* back at b */
+    assert_int_equal(q.st.res.morse, 3);       /* back at b */
     sf_bif_free(&bif);
-    sf_stab_free(&st);
-    free(y0);
-    sf_equil_free(&eq);
-    sf_scene_close(&sc);
+    square4_close(&q);
 }
 
 /* ---- guards: the step bound and a point of unknown index ------------- */
@@ -388,53 +410,44 @@ static void test_square4_double(void **state)
 static void test_step_bound_guard(void **state)
 {
     (void)state;
-    sf_scene sc;
-    open_scene(&sc, "square4-inplane", 0, NULL);
-    sf_equil eq;
-    study_problem(&sc, &eq);
+    square4 q;
+    square4_open(&q);
     sf_error err;
     sf_error_clear(&err);
-    sf_stab st, st2;
-    CHECK_OK(sf_stab_init(&st, &eq, SF_EIG_DENSE, 4, &err), err);
-    CHECK_OK(sf_stab_init(&st2, &eq, SF_EIG_DENSE, 4, &err), err);
-    double *y0 = calloc((size_t)eq.n + 1, sizeof(double));
-    double *ty = calloc((size_t)eq.n + 1, sizeof(double));
-    assert_non_null(y0);
+    sf_stab st2;
+    CHECK_OK(sf_stab_init(&st2, &q.eq, SF_EIG_DENSE, 4, &err), err);
+    double *ty = calloc((size_t)q.eq.n + 1, sizeof(double));
     assert_non_null(ty);
-    double pbp = flat_zero(&st, &eq, y0, 0, 0.0, 0.6);
-    double pbp2 = flat_zero(&st, &eq, y0, 1, pbp + 1e-6, 0.6);
+    double pbp = q.pbp, pbp2 = q.pbp2;
     double pa = pbp - 0.012;
-    CHECK_OK(sf_stab_eval(&st, &eq, y0, pa, &err), err);
-    assert_int_equal(st.res.neig, 4);
-    cont_point pt = point(y0, pa, "");
+    CHECK_OK(sf_stab_eval(&q.st, &q.eq, q.y0, pa, &err), err);
+    assert_int_equal(q.st.res.neig, 4);
+    cont_point pt = point(q.y0, pa, "");
     pt.ty = ty;   /* unit tangent: along p alone */
     pt.tp = 1.0;
-    double bound = sf_bif_step_bound(&st.res, &st2, &eq, &pt, 0.1);
+    double bound = sf_bif_step_bound(&q.st.res, &st2, &q.eq, &pt, 0.1);
     print_message("# step bound from p = %.6f: %.6g (crossings at %.6f and %.6f)\n", pa, bound,
                   pbp, pbp2);
     assert_true(pa + bound > pbp && pa + bound < pbp2);
     /* beyond the next step (ds_next short of pbp2): no bound */
-    CHECK_LE(sf_bif_step_bound(&st.res, &st2, &eq, &pt, 0.5 * (pbp + pbp2) - pa - 0.004), 0.0,
-             "bound beyond the next step");
+    CHECK_LE(sf_bif_step_bound(&q.st.res, &st2, &q.eq, &pt, 0.5 * (pbp + pbp2) - pa - 0.004),
+             0.0, "bound beyond the next step");
     /* eig1 and eig4 as another evaluation might have them, 2e-2 of the
      * spectrum higher: without the guard, crossings predicted within about
      * 1e-6 and a bound of that size */
     double eig[4], scale = 0.0;
-    for (int j = 0; j < 4; j++) scale = fmax(scale, fabs(st.res.eig[j]));
-    for (int j = 0; j < 4; j++) eig[j] = st.res.eig[j];
+    for (int j = 0; j < 4; j++) scale = fmax(scale, fabs(q.st.res.eig[j]));
+    for (int j = 0; j < 4; j++) eig[j] = q.st.res.eig[j];
     eig[0] += 2e-2 * scale;
     eig[3] += 2e-2 * scale;
-    sf_stab_result other = st.res;
+    sf_stab_result other = q.st.res;
     other.eig = eig;
-    double b2 = sf_bif_step_bound(&other, &st2, &eq, &pt, 0.1);
+    double b2 = sf_bif_step_bound(&other, &st2, &q.eq, &pt, 0.1);
     print_message("# step bound from another eigenvalue set: %.3g\n", b2);
     CHECK_LE(b2, 0.0, "no bound from two different eigenvalue sets");
     free(ty);
-    free(y0);
     sf_stab_free(&st2);
-    sf_stab_free(&st);
-    sf_equil_free(&eq);
-    sf_scene_close(&sc);
+    square4_close(&q);
 }
 
 /* A point whose Morse index is unknown (an ambiguous KKT inertia: the

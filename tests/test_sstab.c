@@ -501,6 +501,31 @@ static int dense_morse(const double *H, const double *C, int m, int n, double ta
     return morse;
 }
 
+/* Sparse copies of a dense symmetric H (n x n) and a dense C (m x n), both
+ * row-major: H's lower triangle by columns (its nonzeros, and the whole
+ * diagonal when keep_diag), C's nonzeros by columns. */
+static void dense_to_csc(const double *H, const double *Cd, int m, int n, int keep_diag,
+                         int *hcp, int *hri, double *hv, int *ccp, int *cri, double *cv)
+{
+    int th = 0, tc = 0;
+    for (int j = 0; j < n; j++) {
+        hcp[j] = th;
+        ccp[j] = tc;
+        for (int i = j; i < n; i++)
+            if (H[i * n + j] != 0.0 || (keep_diag && i == j)) {
+                hri[th] = i;
+                hv[th++] = H[i * n + j];
+            }
+        for (int i = 0; i < m; i++)
+            if (Cd[i * n + j] != 0.0) {
+                cri[tc] = i;
+                cv[tc++] = Cd[i * n + j];
+            }
+    }
+    hcp[n] = th;
+    ccp[n] = tc;
+}
+
 /* A constraint row at distance dist from the span of another (a residual
  * singular value ~ dist / sqrt 2, unit rows), with curvature h of H along
  * the direction v only it constrains: rows e_0..e_9 (pins), u = (e10 +
@@ -552,23 +577,7 @@ static void test_sstab_near_dependent(void **state)
         /* sparse: lower triangle of H, C by columns */
         int hcp[ND + 1], hri[2 * ND + 2], ccp[ND + 1], cri[MD * ND];
         double hv[2 * ND + 2], cv[MD * ND];
-        int th = 0, tc = 0;
-        for (int j = 0; j < ND; j++) {
-            hcp[j] = th;
-            ccp[j] = tc;
-            for (int i = j; i < ND; i++)
-                if (H[i * ND + j] != 0.0) {
-                    hri[th] = i;
-                    hv[th++] = H[i * ND + j];
-                }
-            for (int i = 0; i < MD; i++)
-                if (Cd[i * ND + j] != 0.0) {
-                    cri[tc] = i;
-                    cv[tc++] = Cd[i * ND + j];
-                }
-        }
-        hcp[ND] = th;
-        ccp[ND] = tc;
+        dense_to_csc(H, Cd, MD, ND, 0, hcp, hri, hv, ccp, cri, cv);
         sf_csc Hs = {ND, ND, hcp, hri, hv}, Cs = {MD, ND, ccp, cri, cv};
         for (int effort = 0; effort < 2; effort++) {
             sf_sstab *st;
@@ -670,23 +679,7 @@ static void test_sstab_null_at_zero_weak(void **state)
             CHECK_CLOSE(d1, e1, 1e-12, "dense eig1");
             CHECK_LE(fabs(d1w), 1e-14, "dense eig1 without the weak row");
         }
-        int th = 0, tc = 0;
-        for (int j = 0; j < n; j++) {
-            hcp[j] = th;
-            ccp[j] = tc;
-            for (int i = j; i < n; i++)
-                if (H[i * n + j] != 0.0 || i == j) {
-                    hri[th] = i;
-                    hv[th++] = H[i * n + j];
-                }
-            for (int i = 0; i < MD; i++)
-                if (Cd[i * n + j] != 0.0) {
-                    cri[tc] = i;
-                    cv[tc++] = Cd[i * n + j];
-                }
-        }
-        hcp[n] = th;
-        ccp[n] = tc;
+        dense_to_csc(H, Cd, MD, n, 1, hcp, hri, hv, ccp, cri, cv);
         sf_csc Hs = {n, n, hcp, hri, hv}, Cs = {MD, n, ccp, cri, cv};
         for (int effort = 0; effort < 2; effort++) {
             sf_sstab *st;
