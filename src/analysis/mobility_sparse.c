@@ -84,7 +84,10 @@ int sf_mobility_first_order(const sf_model *m, const double *q, int *first, sf_e
     double tol = fmax(RANK_RTOL * longest, RANK_ATOL);
     cholmod_sparse *R = NULL;
     SuiteSparse_long *E = NULL;
-    SuiteSparse_long r = SuiteSparseQR_C_QR(SPQR_ORDERING_DEFAULT, tol, 0, A, NULL, &R, &E, &cc);
+    /* no right-hand side: SuiteSparseQR_C_QR would factorise [A, I] to form
+     * an unused Q (docs/stability.md, "The QR of C^T alone") */
+    SuiteSparse_long r = SuiteSparseQR_C(SPQR_ORDERING_DEFAULT, tol, 0, 0, A, NULL, NULL, NULL,
+                                         NULL, &R, &E, NULL, NULL, NULL, &cc);
     if (R) cholmod_l_free_sparse(&R, &cc);
     if (E) cholmod_l_free((size_t)ncon, sizeof(SuiteSparse_long), E, &cc);
     if (r < 0) {

@@ -99,8 +99,10 @@ static long independent_columns(cholmod_sparse *A, double longest, double rtol, 
     long ncol = (long)A->ncol;
     cholmod_sparse *R = NULL;
     SuiteSparse_long *E = NULL;
-    SuiteSparse_long rank = SuiteSparseQR_C_QR(SPQR_ORDERING_DEFAULT, rtol * longest, 0, A,
-                                               NULL, &R, &E, cc);
+    /* no right-hand side: SuiteSparseQR_C_QR would factorise [A, I] to form
+     * an unused Q (docs/stability.md, "The QR of C^T alone") */
+    SuiteSparse_long rank = SuiteSparseQR_C(SPQR_ORDERING_DEFAULT, rtol * longest, 0, 0, A, NULL,
+                                            NULL, NULL, NULL, &R, &E, NULL, NULL, NULL, cc);
     if (R) cholmod_l_free_sparse(&R, cc);
     if (rank < 0) {
         if (E) cholmod_l_free((size_t)ncol, sizeof(SuiteSparse_long), E, cc);
