@@ -260,9 +260,10 @@ typedef int (*cont_jacobian_fn)(const double *y, double p, SUNMatrix Jy,
  * resolves constraint directions that eps hides at the price of
  * conditioning.  on = 0 (y NULL) restores the plain F.  The corrector
  * retries an attempt that stagnated at a residual floor near the
- * tolerance with it (levels 1 to 4, each from the point the last one
- * reached), and once that succeeded, tries it first at every later
- * attempt of the run, from the level that succeeded; a result is kept
+ * tolerance with it (levels 1 to 5, each from the best point the earlier
+ * ones reached; 5 only after 1 to 4 failed), and once that succeeded,
+ * tries it first at every later attempt of the run, from the level that
+ * succeeded (at most 4); a result is kept
  * only if the plain F meets the tolerance.  Return 0 on success. */
 typedef int (*cont_anchor_fn)(const double *y, double p, int on, void *user);
 

@@ -11,6 +11,7 @@
 #define REFINE_TOL 1e-10   /* their relative accuracy */
 #define REFINE_FLOOR 1e-7  /* accepted when they stall there (rounding) */
 #define ANCHOR_LEVELS 4    /* levels of the anchored solve (cont_anchor_fn) */
+#define ANCHOR_LAST 5      /* ... and the last one, tried after those failed */
 
 int ci_kin_sys(N_Vector uv, N_Vector fv, void *data)
 {
@@ -116,10 +117,15 @@ static int polish(cont_solver *s, double *u, int *iters)
 /* Newton on the problem's anchored F (cont_anchor_fn) from u = s->u: its
  * Jacobian is the regularised one, so it converges where the plain F
  * stagnates at a floor.  The levels from s->anchor_level (at least 1) to
- * ANCHOR_LEVELS in turn, each anchored at the point the last one reached
- * (a smaller weight resolves constraint directions the regularisation
- * hides), until the plain residual meets ftol; s->anchor_level is then
- * the level that did.  0 ok (u updated), -1 not (u restored). */
+ * ANCHOR_LAST in turn, each anchored at the best point so far (the lowest
+ * plain residual; a smaller weight resolves constraint directions the
+ * regularisation hides), until the plain residual meets ftol.  A level
+ * that ends at KINSOL's iteration limit still offers its point (the
+ * anchored Newton of a small weight can stall at its own rounding floor
+ * next to a point that meets the plain tolerance).  s->anchor_level is
+ * then the level that did, at most ANCHOR_LEVELS: the last level is only
+ * tried after the others failed in this attempt.  0 ok (u updated), -1
+ * not (u restored). */
 static int anchored_solve(cont_solver *s, int maxit, int strategy, int *nit)
 {
     long n = s->n, m = s->m;
@@ -127,10 +133,17 @@ static int anchored_solve(cont_solver *s, int maxit, int strategy, int *nit)
     if (!ci_all_finite(u, m)) return -1;
     memcpy(s->w1, u, (size_t)m * sizeof(double));
     double *f = malloc((size_t)n * sizeof(double));
-    if (!f) return -1;
-    double fs = INFINITY;
+    double *best = malloc((size_t)m * sizeof(double));
+    if (!f || !best) {
+        free(f);
+        free(best);
+        return -1;
+    }
+    memcpy(best, u, (size_t)m * sizeof(double));
+    double fs = INFINITY, fbest = INFINITY;
     int lev = s->anchor_level > 1 ? s->anchor_level : 1;
-    for (; lev <= ANCHOR_LEVELS; lev++) {
+    for (; lev <= ANCHOR_LAST; lev++) {
+        memcpy(u, best, (size_t)m * sizeof(double));
         if (s->prob.anchor(u, u[n], lev, s->prob.user) != 0) break;
         KINSetNumMaxIters(s->kmem, maxit);
         int flag = KINSol(s->kmem, s->u, strategy, s->uscale, s->fscale);
@@ -141,15 +154,20 @@ static int anchored_solve(cont_solver *s, int maxit, int strategy, int *nit)
         s->stp.nlinsolve += nni;
         if (nit) *nit += (int)nni;
         fs = INFINITY;
-        if ((flag >= 0 || flag == KIN_LINESEARCH_NONCONV) && ci_all_finite(u, m) &&
-            ci_call_residual(s, u, u[n], f) == 0)
+        if ((flag >= 0 || flag == KIN_LINESEARCH_NONCONV || flag == KIN_MAXITER_REACHED) &&
+            ci_all_finite(u, m) && ci_call_residual(s, u, u[n], f) == 0)
             fs = ci_fscaled_max(s, f, n);
         s->anchor_fs = fmin(s->anchor_fs, fs);
-        if (fs <= s->ftol || !isfinite(fs)) break;
+        if (fs <= s->ftol) break;
+        if (fs < fbest) {
+            fbest = fs;
+            memcpy(best, u, (size_t)m * sizeof(double));
+        }
     }
     free(f);
+    free(best);
     if (fs <= s->ftol) {
-        s->anchor_level = lev;
+        s->anchor_level = lev < ANCHOR_LEVELS ? lev : ANCHOR_LEVELS;
         return 0;
     }
     memcpy(u, s->w1, (size_t)m * sizeof(double));   /* as the plain attempt left it */
