@@ -29,6 +29,13 @@ tests_test_sstab_cost_SOURCES = tests/test_sstab_cost.c
 tests_test_sstab_cost_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_sstab_cost_LDADD = $(SF_TEST_LIBS)
 
+# the rank-revealing QR of the constraint rows factorises C^T alone (docs/stability.md, "Cost")
+check_PROGRAMS += tests/test_sstab_qr
+TESTS += tests/test_sstab_qr
+tests_test_sstab_qr_SOURCES = tests/test_sstab_qr.c
+tests_test_sstab_qr_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_sstab_qr_LDADD = $(SF_TEST_LIBS)
+
 # stability from the MUMPS inertia against the dense method along paths
 TESTS += tests/test_stab_inertia.sh
 EXTRA_DIST += tests/test_stab_inertia.sh

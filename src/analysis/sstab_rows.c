@@ -30,6 +30,7 @@ struct sf_rowbasis {
     double *cu;          /* [m] C u */
     unsigned long long seed;
     int qr, reused, checks;
+    double flops;        /* SuiteSparseQR's operation count, all QRs */
     int square_skip;     /* checks of a set of n rows left out (straight to the QR) */
     double *resid;       /* [m] Heath residual |R(k,k)| of a row of S at the last QR */
 };
@@ -78,6 +79,11 @@ const double *sf_rowbasis_resid(const sf_rowbasis *b)
     return b->resid;
 }
 
+double sf_rowbasis_qr_flops(const sf_rowbasis *b)
+{
+    return b->flops;
+}
+
 void sf_rowbasis_counts(const sf_rowbasis *b, int *qr, int *reused, int *checks)
 {
     *qr = b->qr;
@@ -89,7 +95,11 @@ void sf_rowbasis_counts(const sf_rowbasis *b, int *qr, int *reused, int *checks)
  * with Heath's rank detection (SuiteSparseQR) of C^T, whose columns are
  * the rows; the first rank columns of its permutation E are independent
  * (R(0:r, 0:r) upper triangular with nonzero diagonal, checked).  Marks
- * them in ins[] and sets ns; ns = -1 when SPQR failed. */
+ * them in ins[] and sets ns; ns = -1 when SPQR failed.
+ * SuiteSparseQR_C with no right-hand side, not SuiteSparseQR_C_QR: the
+ * latter factorises [C^T, I] to form Q even when Q is not asked for,
+ * 5 to 10 times the work and memory on the Miura paths
+ * (docs/stability.md, "Cost of the inertia method along a path"). */
 static int qr_rows(sf_rowbasis *b, const sf_csc *C, const double *rs, const int *rnew, int mnz,
                    sf_error *err)
 {
@@ -125,9 +135,10 @@ static int qr_rows(sf_rowbasis *b, const sf_csc *C, const double *rs, const int 
     free(next);
     cholmod_sparse *R = NULL;
     SuiteSparse_long *E = NULL;
-    SuiteSparse_long r = SuiteSparseQR_C_QR(SPQR_ORDERING_DEFAULT, RANK_TOL, 0, A, NULL, &R, &E,
-                                            &b->cc);
+    SuiteSparse_long r = SuiteSparseQR_C(SPQR_ORDERING_DEFAULT, RANK_TOL, 0, 0, A, NULL, NULL, NULL,
+                                         NULL, &R, &E, NULL, NULL, NULL, &b->cc);
     cholmod_l_free_sparse(&A, &b->cc);
+    if (r >= 0) b->flops += b->cc.SPQR_flopcount;
     int ok = r >= 0 && R;
     /* check: R(k, k) is the last entry of column k, nonzero, for k < r */
     for (SuiteSparse_long k = 0; ok && k < r; k++) {

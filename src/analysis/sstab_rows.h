@@ -2,10 +2,13 @@
  * decided by SuiteSparseQR and reused from point to point while a check
  * shows that it still spans the rows (docs/stability.md, "Rank of C").
  *
- * The rank-revealing QR of C^T (Heath's method) costs far more than the
+ * The rank-revealing QR of C^T (Heath's method) cost far more than the
  * LDL^T of the KKT matrix on large sheets (95 % of an evaluation on a
- * 16 x 16 Miura), and the independent rows change only at special states.
- * So the set S of the last QR is kept and checked at the next point:
+ * 16 x 16 Miura) while it factorised [C^T, I]; of C^T alone (2026-11-27)
+ * it costs less than the check below on the 12 x 12 Miura path, where no
+ * check passes (docs/stability.md, "The QR of C^T alone").  The
+ * independent rows change only at special states, so the set S of the
+ * last QR is kept and checked at the next point:
  *  1. every row of S is nonzero and P = [I, Cs^T; Cs, 0] (Cs: the scaled
  *     rows of S) has no null pivot (MUMPS LDL^T, CNTL(3) = 1e-12): Cs has
  *     full row rank, rank C >= |S|;
@@ -50,5 +53,9 @@ const double *sf_rowbasis_resid(const sf_rowbasis *b);
  * next 7 points after a failed check: the QR decides, as after a failure;
  * its round-off fails the check on nearly dependent rows, docs/stability.md). */
 void sf_rowbasis_counts(const sf_rowbasis *b, int *qr, int *reused, int *checks);
+
+/* SuiteSparseQR's count of floating-point operations, summed over the
+ * QRs since creation. */
+double sf_rowbasis_qr_flops(const sf_rowbasis *b);
 
 #endif
