@@ -12,6 +12,9 @@ EXTRA_DIST += tests/test_flatstart.sh
 # the sparse start at the flat state for face poses (docs/flatstart.md)
 TESTS += tests/test_flatstart_sparse.sh tests/test_loadpath.sh
 EXTRA_DIST += tests/test_flatstart_sparse.sh tests/test_loadpath.sh
+# the cost of the sparse start's limit problem (docs/flatstart.md)
+TESTS += tests/test_flatstart_cost.sh
+EXTRA_DIST += tests/test_flatstart_cost.sh
 
 # the local loop rows of a vertex and the sparse first-order mobility
 check_PROGRAMS += tests/test_mobility_sparse

@@ -27,8 +27,11 @@
  * 3x3 Miura sheet (docs/flatstart.md).  Newton has an inertia
  * correction: while the KKT matrix has more negative pivots than
  * constraint rows (2 per row: mu and nu) the energy is not convex on the
- * constraints' tangent space and a shift on the x block makes the step
- * descend; a converged saddle is pushed off by a pseudo-random
+ * constraints' tangent space; the step is then taken with the
+ * Gauss-Newton matrix of the penalty (the x block H0 alone, without the
+ * curvature sum nu_r G_r of the second-order rows), and only when that
+ * is not convex either with a shift on the x block; a converged saddle
+ * (inertia of the full matrix) is pushed off by a pseudo-random
  * perturbation (fixed seeds).  delta (tiny) selects the minimum-norm z.
  * The problem has several stable local minima on a tessellation (the 4x4
  * Miura sheet and up): a second start, the rigid-origami motion of the
@@ -62,7 +65,7 @@
 #define MAXIT_MIRROR 30   /* the same for the mirror start (about 10 where it is a solution) */
 #define MAXPUSH 6
 #define CAP 1.0          /* fold coordinates move by at most CAP |x| per step */
-#define SHIFT_DECAY 16.0 /* first try of the inertia shift: the last one that worked / this */
+#define SHIFT_DECAY 16.0 /* a shift climb starts at the end of the last one / this */
 
 typedef struct lim_ws {
     sf_equil *q;
@@ -75,8 +78,9 @@ typedef struct lim_ws {
     double *work, *dg, *Hl;
     int *col;
     double *hc;       /* the rows' Hessians at the flat state (gx_rows) */
+    double *a1, *a0;  /* the matrix values; a0 with H0 alone in the x block (Gauss-Newton) */
+    double *v0;       /* the Jacobian's values at multipliers 0 (H0), once */
     int hc_filled;
-    double last_shift;   /* the last shift that gave the right inertia */
     double last_big;     /* the last shift a climb ended at */
     double collapse;     /* analysis.flat_collapse: an extra start is left when its fold
                           * amplitude falls below this fraction of collapse_ref */
@@ -106,6 +110,9 @@ static void lw_free(lim_ws *w)
     free(w->Hl);
     free(w->col);
     free(w->hc);
+    free(w->a1);
+    free(w->a0);
+    free(w->v0);
 }
 
 /* The entries of [Gx] (the rows x^T G_r of the constraint rows r, local
@@ -229,7 +236,8 @@ static int lw_init(lim_ws *w, sf_equil *q, const double *y0, double p0, sf_error
 }
 
 /* The pattern (first call) and the values of the scaled KKT matrix at
- * w (x, mu, z, nu raw) with eta, no shift (lw_shifted adds it); the raw
+ * w (x, mu, z, nu raw) with eta, no shift (lw_shifted adds it), into
+ * L->a1, and the same with H0 alone in the x block into L->a0; the raw
  * residual into w->R. */
 static int lw_assemble(lim_ws *L, const double *w, double eta, sf_error *err)
 {
@@ -239,6 +247,15 @@ static int lw_assemble(lim_ws *L, const double *w, double eta, sf_error *err)
     const int *ri;
     const double *v;
     memcpy(L->ybuf, L->y0, sizeof(double) * (size_t)nx);
+    if (!L->v0) {   /* H0: the Jacobian at multipliers 0 (its pattern is the study's) */
+        memset(L->ybuf + nx, 0, sizeof(double) * (size_t)L->ncon);
+        if (sf_peq_jacobian_csc(q, L->ybuf, L->p0, &cp, &ri, &v, L->b))
+            return sf_fail(err, SF_ENUMERIC, "%s: a Jacobian at the flat state is not finite",
+                           q->m->study->path);
+        L->v0 = malloc(sizeof(double) * (size_t)(cp[n] + 1));
+        if (!L->v0) return sf_fail(err, SF_ENOMEM, "out of memory");
+        memcpy(L->v0, v, sizeof(double) * (size_t)cp[n]);
+    }
     memcpy(L->ybuf + nx, w + n + nx, sizeof(double) * (size_t)L->ncon);   /* multipliers nu */
     if (sf_peq_jacobian_csc(q, L->ybuf, L->p0, &cp, &ri, &v, L->b))
         return sf_fail(err, SF_ENUMERIC, "%s: a Jacobian at the flat state is not finite",
@@ -258,7 +275,10 @@ static int lw_assemble(lim_ws *L, const double *w, double eta, sf_error *err)
         L->src = malloc(sizeof(long) * (size_t)tot);
         L->a = malloc(sizeof(double) * (size_t)tot);
         L->gx = malloc(sizeof(double) * (size_t)L->ngx + 1);
-        if (!L->r || !L->c || !L->src || !L->a || !L->gx) return sf_fail(err, SF_ENOMEM, "out of memory");
+        L->a1 = malloc(sizeof(double) * (size_t)tot);
+        L->a0 = malloc(sizeof(double) * (size_t)tot);
+        if (!L->r || !L->c || !L->src || !L->a || !L->gx || !L->a1 || !L->a0)
+            return sf_fail(err, SF_ENOMEM, "out of memory");
         long k = 0;
         for (int j = 0; j < n; j++) {
             L->r[k] = L->c[k] = j;
@@ -286,12 +306,18 @@ static int lw_assemble(lim_ws *L, const double *w, double eta, sf_error *err)
     long tot = L->nl + L->ngx;
     for (long k = 0; k < tot; k++) {
         int i = L->r[k] % n, j = L->c[k] % n;
-        double s = d[i] * d[j], val;
-        if (L->src[k] >= 0) val = s * v[L->src[k]];
-        else if (L->src[k] == -1) val = 0.0;
-        else if (L->src[k] == -2) val = i < nx ? DELTA_S : -fmax(eta, REG_S);
-        else val = s * L->gx[k - L->nl];
-        L->a[k] = val;
+        double s = d[i] * d[j], val, val0;
+        if (L->src[k] >= 0) {
+            val = s * v[L->src[k]];
+            val0 = L->r[k] < nx && L->c[k] < nx ? s * L->v0[L->src[k]] : val;
+        } else {
+            if (L->src[k] == -1) val = 0.0;
+            else if (L->src[k] == -2) val = i < nx ? DELTA_S : -fmax(eta, REG_S);
+            else val = s * L->gx[k - L->nl];
+            val0 = val;
+        }
+        L->a1[k] = val;
+        L->a0[k] = val0;
     }
     /* residual (raw) */
     double *R = L->R;
@@ -318,13 +344,14 @@ static int lw_assemble(lim_ws *L, const double *w, double eta, sf_error *err)
     return SF_OK;
 }
 
-/* Factorise the assembled matrix with the shift on the x block; *neg the
- * negative pivots. */
-static int lw_shifted(lim_ws *L, double shift, int *neg, sf_error *err)
+/* Factorise the assembled matrix (gn: the Gauss-Newton one, H0 alone in
+ * the x block) with the shift on the x block; *neg the negative pivots. */
+static int lw_shifted(lim_ws *L, int gn, double shift, int *neg, sf_error *err)
 {
     long tot = L->nl + L->ngx;
+    const double *src = gn ? L->a0 : L->a1;
     for (long k = 0; k < tot; k++)
-        if (L->src[k] == -1 && L->r[k] < L->nx) L->a[k] = shift;
+        L->a[k] = L->src[k] == -1 && L->r[k] < L->nx ? shift : src[k];
     if (sf_ldlt_factor(L->f, 2 * L->n, tot, L->r, L->c, L->a, err)) return err->code;
     sf_ldlt_info li;
     sf_ldlt_get_info(L->f, &li);
@@ -359,7 +386,7 @@ static int lw_stage(lim_ws *L, double *w, double eta, double tol, int maxit, int
         if (lw_assemble(L, w, eta, err)) return -1;
         *res = lw_resnorm(L);
         if (*res <= tol) {
-            if (lw_shifted(L, 0.0, &neg, err)) return -1;
+            if (lw_shifted(L, 0, 0.0, &neg, err)) return -1;
             if (neg <= target) return 0;
             if (++*pushes > MAXPUSH) return 1;
             /* a saddle: pushed off (pseudo-random, fixed seed) */
@@ -372,30 +399,30 @@ static int lw_stage(lim_ws *L, double *w, double eta, double tol, int maxit, int
             it--;
             continue;
         }
-        /* the inertia correction: the first try is the last shift that
-         * worked divided by SHIFT_DECAY (0 once it has fallen below
-         * 1e-6 SHIFT_DECAY), then 4 times more until the inertia is right
-         * (one factorisation per iteration where the shift changes slowly,
-         * instead of trying 0 every time).  With a quarter (the former
-         * rule) a shift that had grown to 67 in the first stage's crawl
-         * took about 12 iterations of damped steps to fall back to 0 once
-         * the inertia no longer needed it (docs/flatstart.md).  When the
-         * first try fails the second is at least the shift the last climb
-         * ended at / SHIFT_DECAY: the shift decays in the crawl and climbs
-         * back from 1e-5..1e-3 to 1..67, 8 to 12 factorisations by
-         * factors of 4 (12x12 Miura sheet: 241 factorisations, now 203,
-         * the same iterations and states) */
-        double shift = L->last_shift >= 1e-6 * SHIFT_DECAY ? L->last_shift / SHIFT_DECAY : 0.0;
-        int tries = 0;
-        for (int k = 0; k < 40; k++) {
-            tries++;
-            if (lw_shifted(L, shift, &neg, err)) return -1;
-            if (neg <= target) break;
-            shift = k == 0 ? fmax(shift > 0 ? 4.0 * shift : 1e-6, L->last_big / SHIFT_DECAY)
-                           : 4.0 * shift;
+        /* the inertia correction.  The full matrix first; where its
+         * inertia is wrong, the Gauss-Newton matrix of the penalty (H0
+         * alone in the x block: the curvature sum nu_r G_r of the
+         * second-order rows dropped); only when that is wrong too, a
+         * shift on its x block, from the end of the last climb /
+         * SHIFT_DECAY (at least 1e-6) up by factors of 4.  Far from the
+         * cone nu = (second-order residual) / eta is large and sum nu_r G_r
+         * indefinite: the shift that repaired it (the former rule: the
+         * full matrix shifted, the shift 1 to 4000 in the first stage)
+         * damped every direction alike, and the first start crawled (164
+         * Newton iterations on the 16x16 Miura sheet, 250 without
+         * convergence on the 31x31 one); the Gauss-Newton matrix is
+         * convex there and its steps keep their length (16x16: 30).  The
+         * converged state's inertia is that of the full matrix. */
+        if (lw_shifted(L, 0, 0.0, &neg, err)) return -1;
+        if (neg > target) {
+            double shift = 0.0;
+            for (int k = 0; k < 40; k++) {
+                if (lw_shifted(L, 1, shift, &neg, err)) return -1;
+                if (neg <= target) break;
+                shift = k == 0 ? fmax(1e-6, L->last_big / SHIFT_DECAY) : 4.0 * shift;
+            }
+            if (shift > 0) L->last_big = shift;   /* a climb: its end */
         }
-        L->last_shift = shift;
-        if (tries > 1) L->last_big = shift;   /* a climb: its end */
         (*its)++;
         double *s = malloc(sizeof(double) * (size_t)N);
         if (!s) return sf_fail(err, SF_ENOMEM, "out of memory"), -1;

@@ -37,8 +37,10 @@
  *    e.g. the symmetric state), and the fold coordinates move by at most a
  *    quarter of the step per iteration.  A converged state whose inertia
  *    says unstable is pushed off again (pseudo-random mode amplitudes,
- *    fixed seeds, 4 times at most).  On failure the step is halved (4
- *    times at most), then the start stops with a diagnosis.
+ *    fixed seeds, 4 times at most).  On the first failure the same step
+ *    is taken again with a smaller KKT regularisation (SMALL_REG, for
+ *    the start only), then the step is halved (4 times at most), then
+ *    the start stops with a diagnosis.
  * 5. Check and hand-over.  cont_start polishes the point at that p and
  *    takes the engine's tangent there (direction dir); a point that came
  *    back to the flat sheet is a failure.
@@ -59,6 +61,17 @@
 /* the first point's Newton stops when SLOW_SPAN unshifted iterations gain
  * less than a factor 2 (linear convergence: a singular Jacobian) */
 #define SLOW_SPAN 10
+
+/* The KKT regularisation of the first point's Newton after a failed
+ * attempt (scaled units; the fixed one is 1e-10, equilibrium.c): under
+ * gravity and a tip load the first point needs large multipliers on
+ * nearly dependent fold rows (the zigzag folds' rows next to the folds
+ * that stay flat), and Newton's matrix with -1e-10 D in its multiplier
+ * block resolves them only partly per iteration (residual ratio 0.97 at
+ * 8x8) or takes steps of 1e280 (2x2 and 3x3 sheets under 5 and 10 times
+ * the load).  Measured: 1e-12 and 1e-13 start the 7x7 sheet at the first
+ * step, 1e-14 after two halvings, 1e-16 not at all (rounding). */
+#define SMALL_REG 1e-13
 
 /* The scaled KKT matrix A = D (Jy + delta P) D of the Newton systems,
  * D = sqrt(fscale / yscale) (the Newton scales of equilibrium_poses.c make
@@ -288,10 +301,31 @@ out:
  * along the limit solution W (x, mu, z, nu: y = y0 + t x + t^2 z,
  * lambda = nu + t mu) when W is not NULL, else along u with the declared
  * imperfection of the mode amplitudes and poses lifted; solved at
- * p0 + t by descent(), then cont_start there.  0 on success. */
+ * p0 + t by descent(), then cont_start there; with small_reg, both with
+ * the KKT regularisation SMALL_REG instead of the path's (restored
+ * afterwards: the corrector of the path keeps its own).  0 on success. */
+static int attempt_reg(sf_equil *q, struct cont_solver *cs, kkt_ws *w, const double *y0,
+                       double p0, int dir, const double *u, const double *W, double h, double tol,
+                       double *y, int *iters, double *fres_out, int *slow, sf_error *err);
+
 static int attempt(sf_equil *q, struct cont_solver *cs, kkt_ws *w, const double *y0, double p0,
-                   int dir, const double *u, const double *W, double h, double tol, double *y,
-                   int *iters, double *fres_out, int *slow, sf_error *err)
+                   int dir, const double *u, const double *W, double h, double tol, int small_reg,
+                   double *y, int *iters, double *fres_out, int *slow, sf_error *err)
+{
+    double rel = q->reg_rel, mn = q->reg_min;
+    if (small_reg) {   /* sf_equil_reg_eps then returns reg_min */
+        q->reg_rel = 1e-300;
+        q->reg_min = SMALL_REG;
+    }
+    int rc = attempt_reg(q, cs, w, y0, p0, dir, u, W, h, tol, y, iters, fres_out, slow, err);
+    q->reg_rel = rel;
+    q->reg_min = mn;
+    return rc;
+}
+
+static int attempt_reg(sf_equil *q, struct cont_solver *cs, kkt_ws *w, const double *y0,
+                       double p0, int dir, const double *u, const double *W, double h, double tol,
+                       double *y, int *iters, double *fres_out, int *slow, sf_error *err)
 {
     int n = q->n, nq = q->m->nq, nx = q->nq;
     double t = dir * h;
@@ -372,17 +406,25 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
     }
     double h = angle / max_angle(m, lim ? W : u);
     if (max_dp > 0 && h > max_dp) h = max_dp;
-    char why[1100] = "";
-    int halvings, its = 0, nslow = 0;
+    char why[1100] = "", why0[600] = "";
+    int halvings, its = 0, nslow = 0, small_reg = 0;
     double last_res = NAN;   /* the first point's last scaled residual */
     for (halvings = 0; halvings <= 4; halvings++, h *= 0.5) {
         sf_error aerr;
         sf_error_clear(&aerr);
         int slow = 0;
-        if (attempt(q, cs, &w, yf, p0, dir, u, lim ? W : NULL, h, tol, y, &its, &last_res,
-                    &slow, &aerr)) {
+        if (attempt(q, cs, &w, yf, p0, dir, u, lim ? W : NULL, h, tol, small_reg, y, &its,
+                    &last_res, &slow, &aerr)) {
             snprintf(why, sizeof why, "%s", aerr.msg);
             nslow += slow;
+            if (!small_reg) {
+                /* the same step again with the smaller regularisation
+                 * (SMALL_REG), and every later one */
+                snprintf(why0, sizeof why0, "%.590s", aerr.msg);
+                small_reg = 1;
+                halvings--;
+                h *= 2.0;
+            }
             continue;
         }
         const cont_point *pt = cont_get_point(cs);
@@ -397,30 +439,30 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
         else
             snprintf(lim_why, sizeof lim_why, "along the first-order response: the sparse limit "
                      "problem failed (%.200s)", lerr.msg);
-        /* Newton converging linearly at most of the steps: a singular
-         * Jacobian at the state it approaches (the 8x8 Miura sheet under
-         * gravity and a tip load: residual ratio 0.97 per iteration near
-         * 1e-7 at every step; with solver.tolerance = 1e-7 the engine's
-         * Newton then stalls there) */
+        /* Newton converging linearly at most of the attempts, also with
+         * the smaller regularisation: a nearly singular matrix at the
+         * state it approaches (docs/flatstart.md, "The sheet under
+         * gravity and a tip load") */
         if (lim && nslow >= 3)
             rc = sf_fail(err, SF_ENUMERIC, "%s: flat start (sparse): no equilibrium found off the "
-                         "flat state %s: at %d of 5 steps (from %.3g rad on the largest fold "
-                         "angle, halved 4 times) Newton converged only linearly (scaled residual "
-                         "%.2g at the last), i.e. its Jacobian is singular at the state it "
-                         "approaches: probably a degenerate ray of the tangent cone, whose loop "
-                         "rows resist a motion only beyond second order (docs/flatstart.md, "
-                         "\"Degenerate rays\"); a smaller analysis.flat_angle or a looser "
-                         "solver.tolerance does not help; try a driving that selects a regular "
-                         "branch (e.g. a small actuation with the load), solver.constraints = "
-                         "\"penalty\", or analysis.flat_start = \"limit\" (dense; small sheets)",
-                         path, lim_why, nslow, angle, last_res);
+                         "flat state %s: at %d of 6 attempts (from %.3g rad on the largest fold "
+                         "angle, halved 4 times; the first with the path's KKT regularisation, "
+                         "the others with %g) Newton converged only linearly (scaled residual "
+                         "%.2g at the last), i.e. its matrix is nearly singular at the state it "
+                         "approaches (large multipliers on nearly dependent fold rows, "
+                         "docs/flatstart.md, \"The sheet under gravity and a tip load\"); a "
+                         "smaller analysis.flat_angle or a looser solver.tolerance does not "
+                         "help; the loop penalty (solver.formulation = \"folds\", "
+                         "solver.constraints = \"penalty\") needs no start at the flat state",
+                         path, lim_why, nslow, angle, SMALL_REG, last_res);
         else
             rc = sf_fail(err, SF_ENUMERIC, "%s: flat start (sparse): no equilibrium found off the flat "
                          "state %s (first step %.3g rad on the largest fold angle, "
-                         "halved 4 times; last: %s); try a smaller analysis.flat_angle, "
+                         "again with the KKT regularisation %g, then halved 4 times; first: "
+                         "%.300s; last: %.300s); try a smaller analysis.flat_angle, "
                          "analysis.flat_start = \"limit\" (dense tangent-cone analysis, small "
                          "sheets), or a driving that selects a branch (folds[].assignment, a load)",
-                         path, lim_why, angle, why);
+                         path, lim_why, angle, SMALL_REG, why0, why);
         goto out;
     }
     const cont_point *pt = cont_get_point(cs);
@@ -475,11 +517,15 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
             snprintf(lnote, sizeof lnote, "the sparse limit problem failed (%.200s): the "
                      "driving's first-order response with a declared imperfection (every mode "
                      "amplitude -1e-2 times the largest fold angle)", lerr.msg);
+        char regnote[400] = "";
+        if (small_reg)
+            snprintf(regnote, sizeof regnote, "; the first point's Newton with the KKT "
+                     "regularisation %g (with the path's: %.200s)", SMALL_REG, why0);
         snprintf(info->note, sizeof info->note,
                  "flat start (sparse): %.700s; a step of %.3g in p, %d Newton iterations, first "
                  "point at p = %.6g, largest fold angle %.4g rad, fold-row residual %.2g, %d step "
-                 "halvings%s", lnote, h, its, pt->p, max_angle(m, pt->y), fmax(rr, rt), halvings,
-                 signs);
+                 "halvings%s%s", lnote, h, its, pt->p, max_angle(m, pt->y), fmax(rr, rt),
+                 halvings, regnote, signs);
     }
 out:
     ws_free(&w);
