@@ -301,28 +301,7 @@ out:
  * along the limit solution W (x, mu, z, nu: y = y0 + t x + t^2 z,
  * lambda = nu + t mu) when W is not NULL, else along u with the declared
  * imperfection of the mode amplitudes and poses lifted; solved at
- * p0 + t by descent(), then cont_start there; with small_reg, both with
- * the KKT regularisation SMALL_REG instead of the path's (restored
- * afterwards: the corrector of the path keeps its own).  0 on success. */
-static int attempt_reg(sf_equil *q, struct cont_solver *cs, kkt_ws *w, const double *y0,
-                       double p0, int dir, const double *u, const double *W, double h, double tol,
-                       double *y, int *iters, double *fres_out, int *slow, sf_error *err);
-
-static int attempt(sf_equil *q, struct cont_solver *cs, kkt_ws *w, const double *y0, double p0,
-                   int dir, const double *u, const double *W, double h, double tol, int small_reg,
-                   double *y, int *iters, double *fres_out, int *slow, sf_error *err)
-{
-    double rel = q->reg_rel, mn = q->reg_min;
-    if (small_reg) {   /* sf_equil_reg_eps then returns reg_min */
-        q->reg_rel = 1e-300;
-        q->reg_min = SMALL_REG;
-    }
-    int rc = attempt_reg(q, cs, w, y0, p0, dir, u, W, h, tol, y, iters, fres_out, slow, err);
-    q->reg_rel = rel;
-    q->reg_min = mn;
-    return rc;
-}
-
+ * p0 + t by descent(), then cont_start there.  0 on success. */
 static int attempt_reg(sf_equil *q, struct cont_solver *cs, kkt_ws *w, const double *y0,
                        double p0, int dir, const double *u, const double *W, double h, double tol,
                        double *y, int *iters, double *fres_out, int *slow, sf_error *err)
@@ -357,6 +336,24 @@ static int attempt_reg(sf_equil *q, struct cont_solver *cs, kkt_ws *w, const dou
     if (cont_start(cs, y, p0 + t, dir) != CONT_OK)
         return sf_fail(err, SF_ENUMERIC, "%s", cont_errmsg(cs));
     return 0;
+}
+
+/* attempt_reg; with small_reg, with the KKT regularisation SMALL_REG
+ * instead of the path's (restored afterwards: the corrector of the path
+ * keeps its own). */
+static int attempt(sf_equil *q, struct cont_solver *cs, kkt_ws *w, const double *y0, double p0,
+                   int dir, const double *u, const double *W, double h, double tol, int small_reg,
+                   double *y, int *iters, double *fres_out, int *slow, sf_error *err)
+{
+    double rel = q->reg_rel, mn = q->reg_min;
+    if (small_reg) {   /* sf_equil_reg_eps then returns reg_min */
+        q->reg_rel = 1e-300;
+        q->reg_min = SMALL_REG;
+    }
+    int rc = attempt_reg(q, cs, w, y0, p0, dir, u, W, h, tol, y, iters, fres_out, slow, err);
+    q->reg_rel = rel;
+    q->reg_min = mn;
+    return rc;
 }
 
 int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const double *y0, double p0,
