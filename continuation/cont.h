@@ -401,7 +401,10 @@ enum { CONT_CORRECTOR_NEWTON = 0, CONT_CORRECTOR_REUSE = 1 };
 int cont_set_corrector(cont_solver *s, int kind);
 int cont_get_corrector(const cont_solver *s);
 /* the fixed-p solves of cont_solve_fixed / cont_start: default 50 iterations,
- * KIN_LINESEARCH */
+ * KIN_LINESEARCH.  With CONT_CORRECTOR_REUSE they first run the engine's
+ * own Newton (full steps; with KIN_LINESEARCH only while each step lowers
+ * the scaled residual), then KINSOL with this strategy from the same guess
+ * if that does not converge. */
 int cont_set_newton_init(cont_solver *s, int max_iters, int strategy);
 /* which test functions to monitor (CONT_DETECT_* mask, default ALL) and the
  * location tolerance (default 1e-10) */

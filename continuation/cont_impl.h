@@ -204,7 +204,7 @@ int ci_blk_solve(cont_solver *s, cont_bmat *bm, double *x, const double *b, int 
 int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
                double sig, int maxit, int strategy, int *nit, double *fnorm);
 int ci_correct_reuse(cont_solver *s, double *x, const double *c, const double *xa,
-                     double sig, int maxit, int *nit, double *fnorm);
+                     double sig, int maxit, int monotone, int *nit, double *fnorm);
 int ci_tangent_reuse(cont_solver *s, const double *c, int *sign, double *logdet);
 void ci_kin_err(int code, const char *module, const char *function,
                 char *msg, void *data);

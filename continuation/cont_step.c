@@ -350,8 +350,11 @@ static int compute_step(cont_solver *s)
                         s->why[0] ? s->why : "no reason recorded", fl);
         }
         for (long i = 0; i < m; i++) x1->x[i] = b->x[i] + ds * b->t[i];
-        r = ci_correct_reuse(s, x1->x, c, b->x, ds, s->max_newton, &nit, &fn) == 0 ? 0
-            : ci_correct(s, x1->x, c, b->x, ds, s->max_newton, s->strategy, &nit, &fn);
+        /* the engine's own Newton only without a line search */
+        r = s->strategy == KIN_NONE &&
+                    ci_correct_reuse(s, x1->x, c, b->x, ds, s->max_newton, 0, &nit, &fn) == 0
+                ? 0
+                : ci_correct(s, x1->x, c, b->x, ds, s->max_newton, s->strategy, &nit, &fn);
         if (r == 0) {
             r = ci_eval_point(s, x1, c, +1, 0);
             if (r == CONT_EUSER) {

@@ -19,3 +19,12 @@ TESTS += tests/test_cont_block
 tests_test_cont_block_SOURCES = tests/test_cont_block.c tests/cont_test.h
 tests_test_cont_block_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_cont_block_LDADD = $(SF_TEST_LIBS)
+
+# Newton at fixed p in cont_start: the LDL^T of a symmetric Jy, the line
+# search as fallback (dmumps_c wrapped by the linker)
+check_PROGRAMS += tests/test_cont_start
+TESTS += tests/test_cont_start
+tests_test_cont_start_SOURCES = tests/test_cont_start.c tests/cont_test.h
+tests_test_cont_start_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_cont_start_LDFLAGS = -Wl,--wrap=dmumps_c
+tests_test_cont_start_LDADD = $(SF_TEST_LIBS)
