@@ -22,3 +22,10 @@ TESTS += tests/test_mobility_sparse
 tests_test_mobility_sparse_SOURCES = tests/test_mobility_sparse.c
 tests_test_mobility_sparse_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_mobility_sparse_LDADD = $(SF_TEST_LIBS)
+
+# the work of check's mobility analysis grows linearly with the folds
+check_PROGRAMS += tests/test_check_cost
+TESTS += tests/test_check_cost
+tests_test_check_cost_SOURCES = tests/test_check_cost.c
+tests_test_check_cost_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_check_cost_LDADD = $(SF_TEST_LIBS)

@@ -8,8 +8,15 @@
  *  - constraint rows of full rank n (no tangent space), one of them 1e-8
  *    from the span of the others: the check whether the rows of the last
  *    QR still span C fails on its round-off, so the next 7 points skip it
- *    and the QR decides; rank, stability and Morse index are those of a
- *    fresh object (a QR at every point) at every point.
+ *    and the QR decides (after the 2nd and 3rd failure in a row, the next
+ *    15 and 31); rank, stability and Morse index are those of a fresh
+ *    object (a QR at every point) at every point;
+ *  - constraint rows with a tangent space, one of them 6e-11 from the span
+ *    of the others (below the QR's cut 1e-9, above the check's bound
+ *    1e-11): every check fails; after f failures in a row the next
+ *    2^(f-1) - 1 checks (at most 7) are left out: 5 checks in 20 points
+ *    (19 before); rank, Morse index and eigenvalues those of a fresh
+ *    object at every point.
  * Runs in well under a second. */
 #include <math.h>
 #include <setjmp.h>
@@ -128,7 +135,7 @@ static void test_square_rows(void **state)
     sf_error_clear(&err);
     sf_sstab_opts o = {.nev = 2, .effort = SF_SSTAB_EIG_BOUNDED};
     assert_int_equal(sf_sstab_create(&st, NS, NS + 1, &o, &err), SF_OK);
-    int npts = 12;
+    int npts = 30;
     for (int k = 0; k < npts; k++) {
         double a = 1.0 + 0.01 * k;
         square_case(a, cp, ri, v, ccp, cri, cv);
@@ -150,10 +157,94 @@ static void test_square_rows(void **state)
         assert_int_equal(R->morse, F->morse);
         assert_int_equal(R->status, F->status);
         /* point 0: a QR; point 1: a check (fails on round-off); points 2..8:
-         * no check, a QR each; point 9: a check again */
+         * no check, a QR each; point 9: a check again (fails: 2 in a row);
+         * points 10..24 none; point 25 a check (3 in a row), then every 32nd */
         assert_int_equal(R->rank_reused, 0);
         assert_int_equal(R->rank_qr, k + 1);
-        int checks = k == 0 ? 0 : k < 9 ? 1 : 1 + (k - 9) / 8 + 1;
+        int checks = k == 0 ? 0 : k < 9 ? 1 : k < 25 ? 2 : 3 + (k - 25) / 32;
+        assert_int_equal(R->rank_checks, checks);
+        sf_sstab_free(ref);
+    }
+    sf_sstab_free(st);
+}
+
+/* C (NT + 1 rows): rows 0..NT-1 r_i = e_i + 0.3 sin(i) e_{i+1} + 0.7
+ * cos(i) e_{(i+5) mod NS} (independent), row NT = r_3 + r_17 + 1e-10 a
+ * e_{NS-1} (as a unit row about 6e-11 a from the span of the others: the
+ * QR drops it, the check's bound 1e-11 sees it).  HL: tridiag(-0.5, 2 +
+ * 0.1 a, -0.5), positive definite: stable, tangent space NS - NT. */
+#define NT 30
+static void streak_case(double a, int *cp, int *ri, double *v, int *ccp, int *cri, double *cv)
+{
+    static double Cd[NT + 1][NS];
+    memset(Cd, 0, sizeof Cd);
+    for (int i = 0; i < NT; i++) {
+        Cd[i][i] += 1.0;
+        Cd[i][i + 1] += 0.3 * sin(i);
+        Cd[i][(i + 5) % NS] += 0.7 * cos(i);
+    }
+    for (int j = 0; j < NS; j++) Cd[NT][j] = Cd[3][j] + Cd[17][j];
+    Cd[NT][NS - 1] += 1e-10 * a;
+    int t = 0, u = 0;
+    for (int j = 0; j < NS; j++) {
+        cp[j] = t;
+        ri[t] = j;
+        v[t++] = 2.0 + 0.1 * a;
+        if (j + 1 < NS) {
+            ri[t] = j + 1;
+            v[t++] = -0.5;
+        }
+        ccp[j] = u;
+        for (int i = 0; i <= NT; i++)
+            if (Cd[i][j] != 0.0) {
+                cri[u] = i;
+                cv[u++] = Cd[i][j];
+            }
+    }
+    cp[NS] = t;
+    ccp[NS] = u;
+}
+
+static void test_streak_rows(void **state)
+{
+    (void)state;
+    static int cp[NS + 1], ri[2 * NS], ccp[NS + 1], cri[8 * NS];
+    static double v[2 * NS], cv[8 * NS];
+    sf_sstab *st;
+    sf_error err;
+    sf_error_clear(&err);
+    sf_sstab_opts o = {.nev = 2, .effort = SF_SSTAB_EIG_BOUNDED};
+    assert_int_equal(sf_sstab_create(&st, NS, NT + 1, &o, &err), SF_OK);
+    const int npts = 20;
+    for (int k = 0; k < npts; k++) {
+        double a = 1.0 + 0.01 * k;
+        streak_case(a, cp, ri, v, ccp, cri, cv);
+        sf_csc H = {NS, NS, cp, ri, v}, C = {NT + 1, NS, ccp, cri, cv};
+        assert_int_equal(sf_sstab_eval(st, &H, &C, &err), SF_OK);
+        const sf_sstab_result *R = sf_sstab_get(st);
+        sf_sstab *ref;
+        assert_int_equal(sf_sstab_create(&ref, NS, NT + 1, &o, &err), SF_OK);
+        assert_int_equal(sf_sstab_eval(ref, &H, &C, &err), SF_OK);
+        const sf_sstab_result *F = sf_sstab_get(ref);
+        print_message("# streak, point %d: rank %d (fresh %d), stable %d, eig1 %.15g (fresh "
+                      "%.15g), %d QRs, %d checks, %d reused\n", k, R->rank, F->rank, R->stable,
+                      R->neig ? R->eig[0] : NAN, F->neig ? F->eig[0] : NAN, R->rank_qr,
+                      R->rank_checks, R->rank_reused);
+        assert_int_equal(R->rank, NT);
+        assert_int_equal(R->rank, F->rank);
+        assert_int_equal(R->stable, 1);
+        assert_int_equal(R->stable, F->stable);
+        assert_int_equal(R->morse, F->morse);
+        assert_int_equal(R->status, F->status);
+        assert_int_equal(R->neig, 2);
+        assert_int_equal(R->neig, F->neig);
+        for (int i = 0; i < R->neig; i++)
+            CHECK_CLOSE(R->eig[i], F->eig[i], 1e-10 * fabs(F->eig[i]), "eigenvalue");
+        /* checks at points 1, 2, 4, 8, 16 (f failures in a row leave out
+         * the next 2^(f-1) - 1, at most 7); a QR at every point */
+        assert_int_equal(R->rank_reused, 0);
+        assert_int_equal(R->rank_qr, k + 1);
+        int checks = k == 0 ? 0 : k < 2 ? 1 : k < 4 ? 2 : k < 8 ? 3 : k < 16 ? 4 : 5;
         assert_int_equal(R->rank_checks, checks);
         sf_sstab_free(ref);
     }
@@ -165,6 +256,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_cluster_bounded),
         cmocka_unit_test(test_square_rows),
+        cmocka_unit_test(test_streak_rows),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

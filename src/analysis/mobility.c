@@ -45,6 +45,8 @@ typedef struct probe {
     int nq, ncon;
     int vertex;               /* >= 0: the rows of this vertex alone, evaluated locally */
     int lcols[MOB_LOCAL_MAX]; /* its local columns (sf_constraints_vertex) */
+    int nlfolds;              /* its distinct folds, the only folding maps */
+    int lfolds[MOB_LOCAL_MAX];/* its rows need (sf_kin_eval_folds) */
     double *lJ, *lH;          /* 6 x MOB_LOCAL_MAX, MOB_LOCAL_MAX^2 */
     double lref;
     double *q, *g, *J;        /* full state, all rows, full Jacobian */
@@ -67,9 +69,25 @@ static int local_col(const probe *P, int nl, int gcol)
     return -1;
 }
 
+/* The kinematics the rows need at P->q: a vertex's own folds, or the
+ * whole sheet. */
+static void eval_kin(probe *P, int order)
+{
+    if (P->vertex >= 0) sf_kin_eval_folds(P->m, P->q, order, P->nlfolds, P->lfolds, &P->k);
+    else sf_kin_eval(P->m, P->q, order, &P->k);
+}
+
+/* dst = src on the probe's coordinates C.  Only those are read or changed
+ * (all nq for the whole sheet; a vertex's own, so that its analysis costs
+ * nothing of the size of the sheet). */
+static void copy_coords(const probe *P, double *dst, const double *src)
+{
+    for (int j = 0; j < P->nc; j++) dst[P->C[j]] = src[P->C[j]];
+}
+
 static void eval_rows(probe *P, double *out, double *A, int ld)
 {
-    sf_kin_eval(P->m, P->q, A ? 1 : 0, &P->k);
+    eval_kin(P, A ? 1 : 0);
     if (P->vertex >= 0) {
         /* one vertex: its six rows over its own columns, nothing of size nq */
         double g[6];
@@ -168,7 +186,7 @@ static double solve_on_sphere(probe *P, const double *q0, double radius)
         lw = P->lwork;
         dgelss_(&m, &nc, &one, P->A, &m, d, &ldb, P->S, &rcond, &rank, P->work, &lw, &info);
         if (info != 0) { res = -1.0; break; }
-        memcpy(save, P->q, sizeof(double) * (size_t)P->nq);
+        copy_coords(P, save, P->q);
         double t = 1.0;
         int ok = 0;
         for (int bt = 0; bt < 30 && !ok; bt++, t *= 0.5) {
@@ -184,7 +202,7 @@ static double solve_on_sphere(probe *P, const double *q0, double radius)
             ok = t2 < r2;
         }
         if (!ok) {
-            memcpy(P->q, save, sizeof(double) * (size_t)P->nq);
+            copy_coords(P, P->q, save);
             break;
         }
     }
@@ -223,13 +241,13 @@ static int so_build(probe *P, const double *q0, second_order *so)
     memset(so, 0, sizeof *so);
     int local = P->vertex >= 0;
     double *U = malloc(sizeof(double) * ((size_t)nr * nr + 1));
-    double *w = calloc((size_t)P->ncon + 1, sizeof(double));
+    double *w = local ? NULL : calloc((size_t)P->ncon + 1, sizeof(double));
     /* the whole sheet (small sheets only): the Hessians in nq x nq */
     double *H = local ? NULL : malloc(sizeof(double) * ((size_t)nq * nq + 1));
     double *Jl = malloc(sizeof(double) * ((size_t)nr * nc + 1));
     int rc = -1;
-    if (!U || !w || (!local && !H) || !Jl) goto done;
-    memcpy(P->q, q0, sizeof(double) * (size_t)nq);
+    if (!U || (!local && (!w || !H)) || !Jl) goto done;
+    copy_coords(P, P->q, q0);
     eval_rows(P, P->b, P->A, nr);
     memcpy(Jl, P->A, sizeof(double) * (size_t)nr * nc); /* dgesvd overwrites A */
     double wq;
@@ -259,7 +277,7 @@ static int so_build(probe *P, const double *q0, second_order *so)
         }
     for (int a = 0; a < nn; a++)
         for (int j = 0; j < nc; j++) so->Z[(size_t)a * nc + j] = P->VT[(size_t)j * nc + n1 + a];
-    sf_kin_eval(P->m, P->q, 2, &P->k);
+    eval_kin(P, 2);
     double *GZ = malloc(sizeof(double) * ((size_t)nc * nn + 1));
     if (!GZ) goto done;
     for (int s2 = 0; s2 < n2; s2++) {
@@ -486,7 +504,7 @@ static int try_start(probe *P, const double *q0, const double *v, int *found, in
     for (int j = 0; j < nc; j++) nv += v[j] * v[j];
     nv = sqrt(nv);
     if (!(nv > 0)) return 0;
-    memcpy(P->q, q0, sizeof(double) * (size_t)P->nq);
+    copy_coords(P, P->q, q0);
     for (int j = 0; j < nc; j++) P->q[P->C[j]] += MOB_RADIUS * v[j] / nv;
     double res = solve_on_sphere(P, q0, MOB_RADIUS);
     if (res < 0) return -1;
@@ -496,11 +514,11 @@ static int try_start(probe *P, const double *q0, const double *v, int *found, in
          * redundant rows: the largest rank is that of the branch) */
         double *x = malloc(sizeof(double) * (size_t)P->nq);
         if (!x) return -1;
-        memcpy(x, P->q, sizeof(double) * (size_t)P->nq);
+        copy_coords(P, x, P->q);
         unsigned long long st = 0x853C49E6748FEA9BULL + (unsigned long long)*found;
         for (int k = 0; k < 3; k++) {
             if (k > 0) {
-                memcpy(P->q, x, sizeof(double) * (size_t)P->nq);
+                copy_coords(P, P->q, x);
                 for (int j = 0; j < nc; j++) {
                     st = st * 6364136223846793005ULL + 1442695040888963407ULL;
                     P->q[P->C[j]] += 0.2 * MOB_RADIUS * ((double)(st >> 11) / 9007199254740992.0 - 0.5);
@@ -670,10 +688,12 @@ int sf_mobility_analyse(const sf_model *m, const double *q0in, sf_mobility *mb, 
     for (int v = 0; v < nv; v++) {
         const sf_ivertex *iv = &t->ivertices[v];
         P.nc = 0;
+        P.nlfolds = 0;
         for (int a = 0; a < iv->degree; a++) {
             int f = iv->folds[a], dup = 0;
             for (int b = 0; b < a; b++) dup |= iv->folds[b] == f;
             if (dup) continue;
+            if (P.nlfolds < MOB_LOCAL_MAX) P.lfolds[P.nlfolds++] = f;
             for (int j = 0; j < m->qn[f]; j++) P.C[P.nc++] = m->qoff[f] + j;
         }
         P.nr = 6;
@@ -714,6 +734,7 @@ int sf_mobility_analyse(const sf_model *m, const double *q0in, sf_mobility *mb, 
         goto done;
     }
 done:
+    mb->fold_evals = P.k.fold_evals;
     sf_kin_free(&P.k);
     free(q0);
     free(P.q);

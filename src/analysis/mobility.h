@@ -32,8 +32,10 @@
  *  - Neither: undecided (dof = -1; locking, if any, of higher order, or a
  *    motion the probe did not find), with the smallest residual found.
  * Scale: each vertex's rows are evaluated locally (sf_constraints_vertex:
- * its own columns, no ncon x nq array), so the per-vertex analyses cost
- * O(nq) each (the kinematics of the whole sheet per evaluation); the
+ * its own columns, no ncon x nq array) from the folding maps of its own
+ * folds alone (sf_kin_eval_folds), so each vertex's analysis costs the
+ * same on any size of sheet and all of them together grow linearly with
+ * the folds (fold_evals below counts the work); the
  * whole sheet's second-order probe is dense in nq and runs up to
  * SF_MOBILITY_DENSE_MAX coordinates, above which the whole sheet gets its
  * first-order count from the sparse rank (mobility_sparse.c) only.
@@ -73,6 +75,10 @@ typedef struct sf_mobility {
     int probed;         /* 1: the whole sheet's second-order probe ran (up to
                            SF_MOBILITY_DENSE_MAX coordinates); 0: first order
                            only (sparse rank), dof = -1 */
+    long fold_evals;    /* folding maps evaluated by the analysis (each one
+                           quadrature of the fold's section; the sparse
+                           first-order count adds one evaluation of every
+                           fold): grows linearly with the folds */
 } sf_mobility;
 
 /* The whole sheet's second-order probe (dense in nq) runs up to this many

@@ -15,7 +15,8 @@
 #define OUT_TOL 1e-11   /* reuse: |d . u| of every other row at most this */
 #define FLOOR_TOL 1e-12 /* reuse: |c . u| of the rows of S (round-off) at most this */
 #define DRAWS 6         /* random vectors of the check */
-#define SQUARE_SKIP 7   /* after a failed check of a set of n rows, the next 7 go to the QR */
+#define SQUARE_SKIP 7   /* after a failed check of a set of n rows, the next 7 go to the QR
+                           (15, then 31, after 2 and 3 or more failures in a row) */
 
 struct sf_rowbasis {
     int n, m;
@@ -32,6 +33,8 @@ struct sf_rowbasis {
     int qr, reused, checks;
     double flops;        /* SuiteSparseQR's operation count, all QRs */
     int square_skip;     /* checks of a set of n rows left out (straight to the QR) */
+    int skip;            /* checks of any set left out after failures in a row */
+    int fails;           /* checks failed in a row */
     double *resid;       /* [m] Heath residual |R(k,k)| of a row of S at the last QR */
 };
 
@@ -285,19 +288,36 @@ int sf_rowbasis_select(sf_rowbasis *b, const sf_csc *C, double *rs, int *rnew, i
     *failed = 0;
     if (mnz == 0 || !C) return SF_OK;
     int ok = 0;
-    /* S of n rows (no tangent space): Cs square, u = 0 up to its round-off,
-     * which on nearly dependent rows exceeds the check's bounds (the 8 x 8
-     * Miura actuation path: 107 failed checks of 107); after a failure the
-     * next SQUARE_SKIP such checks are left out and the QR decides, as it
-     * would after the failed check */
+    /* Checks that would fail are left out and the QR decides, as it does
+     * after a failed check.  S of n rows (no tangent space): Cs square,
+     * u = 0 up to its round-off, which on nearly dependent rows exceeds the
+     * check's bounds (the 8 x 8 Miura actuation path: 107 failed checks of
+     * 107): after a failure the next 7 checks of such sets, after 2 and 3
+     * or more failures in a row the next 15 and 31.  Any other S: after f
+     * failures in a row the next 2^(f-1) - 1 checks, at most 7 (rows that
+     * stay nearly dependent along the path: no check passes on the 8 x 8
+     * and 12 x 12 Miura paths); a single failure (the rank changed at a
+     * special state) is followed by a check, as before */
     if (b->ns > 0 && b->ns == b->n && b->square_skip > 0) {
         b->square_skip--;
+    } else if (b->ns > 0 && b->ns < b->n && b->skip > 0) {
+        b->skip--;
     } else if (b->ns > 0) {
         b->checks++;
         ok = still_spans(b, C, rs, rnew, err);
         if (ok < 0) return -ok;
-        if (ok) b->reused++;
-        else if (b->ns == b->n) b->square_skip = SQUARE_SKIP;
+        if (ok) {
+            b->reused++;
+            b->fails = 0;
+        } else if (b->ns == b->n) {
+            b->fails++;
+            int f = b->fails < 3 ? b->fails : 3;
+            b->square_skip = ((SQUARE_SKIP + 1) << (f - 1)) - 1;
+        } else {
+            b->fails++;
+            int f = b->fails < 4 ? b->fails : 4;
+            b->skip = (1 << (f - 1)) - 1; /* 0, 1, 3, then 7 */
+        }
     }
     if (!ok) {
         int rc = qr_rows(b, C, rs, rnew, mnz, err);

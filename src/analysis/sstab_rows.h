@@ -49,9 +49,12 @@ int sf_rowbasis_select(sf_rowbasis *b, const sf_csc *C, double *rs, int *rnew, i
 const double *sf_rowbasis_resid(const sf_rowbasis *b);
 
 /* Counts since creation: rank-revealing QRs, points whose set was reused,
- * checks made (a set of n rows, Cs square, is not checked again for the
- * next 7 points after a failed check: the QR decides, as after a failure;
- * its round-off fails the check on nearly dependent rows, docs/stability.md). */
+ * checks made.  Checks likely to fail are left out and the QR decides, as
+ * after a failure: a set of n rows (Cs square, whose round-off fails the
+ * check on nearly dependent rows) is not checked for the next 7 points
+ * after a failed check (15, 31 after 2, 3 or more failures in a row); any
+ * other set, after f >= 2 failures in a row, for the next 2^(f-1) - 1
+ * points, at most 7 (docs/stability.md, "Checks left out"). */
 void sf_rowbasis_counts(const sf_rowbasis *b, int *qr, int *reused, int *checks);
 
 /* SuiteSparseQR's count of floating-point operations, summed over the

@@ -215,6 +215,7 @@ static void fold_local(const sf_model *m, int i, const double *qi, int order,
     k->chord[2 * i + 1] = c[1];
     double R[9];
     sf_rotation(mm, qi[0], R);
+    k->fold_evals++;
     double *T = k->T + 12 * i;
     double RpL[3];
     for (int r = 0; r < 3; r++) {
@@ -301,6 +302,17 @@ void sf_kin_eval(const sf_model *m, const double *q, int order, sf_kin *k)
             sf_affine_inv(T, Ti);
             sf_affine_mul(k->X + 12 * p, Ti, X);
         }
+    }
+}
+
+void sf_kin_eval_folds(const sf_model *m, const double *q, int order, int nf, const int *folds,
+                       sf_kin *k)
+{
+    k->order = order;
+    for (int a = 0; a < nf; a++) {
+        int i = folds[a], off = m->qoff[i];
+        memcpy(k->q + off, q + off, sizeof(double) * (size_t)m->qn[i]);
+        fold_local(m, i, q + off, order, k);
     }
 }
 

@@ -43,6 +43,8 @@ typedef struct sf_kin {
     double *xi2;               /* [nfolds][maxqn][maxqn][12]: d2T T^-1, local */
     /* per face: global rigid map */
     double *X;                 /* [nfaces][12] */
+    long fold_evals;           /* folding maps evaluated into this cache so
+                                  far (each one quadrature of its section) */
 } sf_kin;
 
 /* A material point of the sheet, located once. */
@@ -62,6 +64,14 @@ int sf_kin_alloc(const sf_model *m, sf_kin *k);
 void sf_kin_free(sf_kin *k);
 /* Evaluate maps at q with derivatives up to order (0, 1, 2). */
 void sf_kin_eval(const sf_model *m, const double *q, int order, sf_kin *k);
+/* The folding maps of the nf listed folds alone, with derivatives up to
+ * order, from their coordinates in q (copied into k->q); every other
+ * fold's data and the face maps keep what they held.  Enough for the loop
+ * rows of a vertex whose folds are listed (sf_constraints_vertex), at a
+ * cost independent of the size of the sheet; the same values as
+ * sf_kin_eval for those folds. */
+void sf_kin_eval_folds(const sf_model *m, const double *q, int order, int nf, const int *folds,
+                       sf_kin *k);
 
 /* Locate a material point (band first, then face).  Fails when outside. */
 int sf_model_locate(const sf_model *m, const double X[2], sf_mpoint *p,

@@ -107,15 +107,16 @@ int st_check_group(const sf_study *s, sf_error *err,
                    const config_setting_t *st, const char *pat)
 {
     int n = config_setting_length(st);
-    char kp[512];
-    st_keypath(st, kp, sizeof kp);
     for (int i = 0; i < n; i++) {
         const config_setting_t *m = config_setting_get_elem(st, (unsigned)i);
         char cp[512];
         st_join3(cp, sizeof cp, pat, pat[0] ? "." : "", m->name);
         const sf_study_key *ck = st_schema_find(cp);
         if (!ck) {
-            char sb[512], h[600];
+            /* the key path only for the message: it costs the position of
+             * the group in its list (libconfig), for every fold */
+            char kp[512], sb[512], h[600];
+            st_keypath(st, kp, sizeof kp);
             const char *sg = st_suggest_key(pat, m->name, sb, sizeof sb);
             if (kp[0])
                 return st_bad_raw(s, err, m, "unknown key '%s' in %s%s", m->name, kp, st_hint(h, sizeof h, sg));
@@ -135,6 +136,8 @@ int st_check_group(const sf_study *s, sf_error *err,
         if (!st_schema_is_child(&schema[i], pat, &name)) continue;
         if (strcmp(name, "*") == 0 || strcmp(name, "[]") == 0) continue;
         if (!config_setting_get_member(st, name)) {
+            char kp[512];
+            st_keypath(st, kp, sizeof kp);
             if (kp[0]) return st_bad(s, err, st, "missing required key '%s'", name);
             return st_bad_raw(s, err, st, "missing required key '%s'", name);
         }

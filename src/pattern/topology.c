@@ -465,7 +465,28 @@ static int build_tree(topo_build *B)
     }
     t->root = root;
     t->order = malloc(sizeof(int) * (size_t)(nf ? nf : 1));
-    if (!t->order) return tp_nomem(B);
+    /* the folds of each face, ascending (CSR): the tree below takes, from
+     * each face, its folds in that order */
+    int *ffirst = calloc((size_t)nf + 1, sizeof(int));
+    int *ffolds = malloc(sizeof(int) * (size_t)(2 * t->nfolds + 1));
+    if (!t->order || !ffirst || !ffolds) {
+        free(ffirst);
+        free(ffolds);
+        return tp_nomem(B);
+    }
+    for (int i = 0; i < t->nfolds; i++) {
+        const sf_fold_geom *g = &t->folds[i];
+        if (g->left >= 0 && g->left < nf) ffirst[g->left + 1]++;
+        if (g->right >= 0 && g->right < nf && g->right != g->left) ffirst[g->right + 1]++;
+    }
+    for (int f = 0; f < nf; f++) ffirst[f + 1] += ffirst[f];
+    for (int i = 0; i < t->nfolds; i++) {
+        const sf_fold_geom *g = &t->folds[i];
+        if (g->left >= 0 && g->left < nf) ffolds[ffirst[g->left]++] = i;
+        if (g->right >= 0 && g->right < nf && g->right != g->left) ffolds[ffirst[g->right]++] = i;
+    }
+    for (int f = nf; f > 0; f--) ffirst[f] = ffirst[f - 1];
+    ffirst[0] = 0;
     for (int f = 0; f < nf; f++) t->faces[f].depth = -1;
     t->faces[root].depth = 0;
     t->faces[root].parent = -1;
@@ -474,7 +495,8 @@ static int build_tree(topo_build *B)
     t->order[tail++] = root;
     while (head < tail) {
         int f = t->order[head++];
-        for (int i = 0; i < t->nfolds; i++) {
+        for (int e = ffirst[f]; e < ffirst[f + 1]; e++) {
+            int i = ffolds[e];
             const sf_fold_geom *g = &t->folds[i];
             int o = g->left == f ? g->right : g->right == f ? g->left : -1;
             if (o < 0 || t->faces[o].depth >= 0) continue;
@@ -484,6 +506,8 @@ static int build_tree(topo_build *B)
             t->order[tail++] = o;
         }
     }
+    free(ffirst);
+    free(ffolds);
     for (int f = 0; f < nf; f++)
         if (t->faces[f].depth < 0)
             return tp_fail_line(B, s->fixed_line, "%s cannot be reached from the fixed face by "

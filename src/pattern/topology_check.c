@@ -5,8 +5,45 @@
  * 6. the bands (corners, overlaps by a separating-axis test). */
 #include "topology_impl.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
+
+/* The pairs of the checks come from tp_box_pairs in no set order; each
+ * check reports the pair its loop over all pairs (k1 ascending, then k2)
+ * would have met first: the least failing one. */
+typedef struct pair_check {
+    const topo_build *B;
+    int k1, k2;       /* least failing pair so far, INT_MAX: none */
+    int *least_edge;  /* outline crossings: per fold, the least edge crossed */
+} pair_check;
+
+static void pair_check_init(pair_check *c, const topo_build *B)
+{
+    c->B = B;
+    c->k1 = c->k2 = INT_MAX;
+    c->least_edge = NULL;
+}
+
+static void take(pair_check *c, int k1, int k2)
+{
+    if (k1 < c->k1 || (k1 == c->k1 && k2 < c->k2)) {
+        c->k1 = k1;
+        c->k2 = k2;
+    }
+}
+
+static void point_box(const double p[2], tp_box *b)
+{
+    tp_box_empty(b);
+    tp_box_add(b, p);
+}
+
+static void segment_box(const double p[2], const double q[2], tp_box *b)
+{
+    point_box(p, b);
+    tp_box_add(b, q);
+}
 
 /* ------------------------------------------------------------ 1. outline */
 
@@ -179,6 +216,52 @@ int tp_insert_boundary(topo_build *B)
     return rc;
 }
 
+/* vertices a > b at one place */
+static void coincide_pair(void *ctx, int a, int b)
+{
+    pair_check *c = ctx;
+    if (dist2(VX(c->B, b), VX(c->B, a)) <= c->B->tol) take(c, a, b);
+}
+
+/* folds a > b with the same ends */
+static void duplicate_pair(void *ctx, int a, int b)
+{
+    pair_check *c = ctx;
+    const sf_fold_def *fi = &c->B->s->folds[b], *fj = &c->B->s->folds[a];
+    if ((fi->a == fj->a && fi->b == fj->b) || (fi->a == fj->b && fi->b == fj->a)) take(c, a, b);
+}
+
+/* fold a through vertex v, not one of its ends */
+static void through_pair(void *ctx, int i, int v)
+{
+    pair_check *c = ctx;
+    const sf_fold_def *f = &c->B->s->folds[i];
+    if (v == f->a || v == f->b) return;
+    if (tp_point_seg(VX(c->B, f->a), VX(c->B, f->b), VX(c->B, v), NULL) <= c->B->tol)
+        take(c, i, v);
+}
+
+/* fold i across boundary edge k */
+static void outline_pair(void *ctx, int i, int k)
+{
+    pair_check *c = ctx;
+    const topo_build *B = c->B;
+    const sf_fold_def *f = &B->s->folds[i];
+    int nb = B->t->nboundary, p = B->t->boundary[k], q = B->t->boundary[(k + 1) % nb];
+    if (k < c->least_edge[i] && tp_proper_cross(VX(B, f->a), VX(B, f->b), VX(B, p), VX(B, q), B->tol))
+        c->least_edge[i] = k;
+}
+
+/* folds j > i crossing with no common vertex */
+static void cross_pair(void *ctx, int j, int i)
+{
+    pair_check *c = ctx;
+    const topo_build *B = c->B;
+    const sf_fold_def *fi = &B->s->folds[i], *fj = &B->s->folds[j];
+    if (tp_proper_cross(VX(B, fi->a), VX(B, fi->b), VX(B, fj->a), VX(B, fj->b), B->tol))
+        take(c, j, i);
+}
+
 int tp_check_folds_geometry(topo_build *B)
 {
     const sf_study *s = B->s;
@@ -186,65 +269,108 @@ int tp_check_folds_geometry(topo_build *B)
     int nv = s->nvertices, nf = s->nfolds, nb = t->nboundary;
     double tol = B->tol;
 
-    /* distinct pattern vertices at distinct places */
-    for (int v = 0; v < nv; v++) {
-        if (!B->used[v] && B->bpos[v] < 0) continue;
-        for (int u = 0; u < v; u++) {
-            if (!B->used[u] && B->bpos[u] < 0) continue;
-            if (dist2(VX(B, u), VX(B, v)) <= tol)
-                return tp_fail_line(B, VL(B, v), "vertices %s and %s coincide at (%g, %g)",
-                                 VN(B, u), VN(B, v), VX(B, v)[0], VX(B, v)[1]);
-        }
+    /* the pairs below: nearby ones only (tp_box_pairs), each check
+     * reporting the first failing pair of the loop over all pairs */
+    tp_box *vbox = malloc(sizeof(tp_box) * (size_t)(nv ? nv : 1));
+    tp_box *fbox = malloc(sizeof(tp_box) * (size_t)(nf ? nf : 1));
+    tp_box *ebox = malloc(sizeof(tp_box) * (size_t)(nb ? nb : 1));
+    int *least_edge = malloc(sizeof(int) * (size_t)(nf ? nf : 1));
+    pair_check c;
+    int rc = SF_OK;
+    if (!vbox || !fbox || !ebox || !least_edge) {
+        rc = tp_nomem(B);
+        goto done;
     }
-    for (int j = 0; j < nf; j++)
-        for (int i = 0; i < j; i++) {
-            const sf_fold_def *fi = &s->folds[i], *fj = &s->folds[j];
-            if ((fi->a == fj->a && fi->b == fj->b) || (fi->a == fj->b && fi->b == fj->a))
-                return tp_fail_line(B, fj->line, "%s duplicates %s", tp_FN(B, j).s, tp_FN(B, i).s);
-        }
-    for (int i = 0; i < nf; i++) {
-        const sf_fold_def *f = &s->folds[i];
-        for (int v = 0; v < nv; v++) {
-            if (v == f->a || v == f->b || (!B->used[v] && B->bpos[v] < 0)) continue;
-            if (tp_point_seg(VX(B, f->a), VX(B, f->b), VX(B, v), NULL) <= tol)
-                return tp_fail_line(B, f->line, "%s passes through vertex %s, which is not one of its ends",
-                                 tp_FN(B, i).s, VN(B, v));
-        }
+    for (int v = 0; v < nv; v++) {
+        if (!B->used[v] && B->bpos[v] < 0) tp_box_empty(&vbox[v]);
+        else point_box(VX(B, v), &vbox[v]);
+    }
+    for (int i = 0; i < nf; i++) segment_box(VX(B, s->folds[i].a), VX(B, s->folds[i].b), &fbox[i]);
+    for (int k = 0; k < nb; k++)
+        segment_box(VX(B, t->boundary[k]), VX(B, t->boundary[(k + 1) % nb]), &ebox[k]);
+    /* distinct pattern vertices at distinct places */
+    pair_check_init(&c, B);
+    if (tp_box_pairs(nv, vbox, 0, NULL, tol, coincide_pair, &c)) {
+        rc = tp_nomem(B);
+        goto done;
+    }
+    if (c.k1 < INT_MAX) {
+        int v = c.k1, u = c.k2;
+        rc = tp_fail_line(B, VL(B, v), "vertices %s and %s coincide at (%g, %g)",
+                          VN(B, u), VN(B, v), VX(B, v)[0], VX(B, v)[1]);
+        goto done;
+    }
+    pair_check_init(&c, B);
+    if (tp_box_pairs(nf, fbox, 0, NULL, tol, duplicate_pair, &c)) {
+        rc = tp_nomem(B);
+        goto done;
+    }
+    if (c.k1 < INT_MAX) {
+        int j = c.k1, i = c.k2;
+        rc = tp_fail_line(B, s->folds[j].line, "%s duplicates %s", tp_FN(B, j).s, tp_FN(B, i).s);
+        goto done;
+    }
+    pair_check_init(&c, B);
+    if (tp_box_pairs(nf, fbox, nv, vbox, tol, through_pair, &c)) {
+        rc = tp_nomem(B);
+        goto done;
+    }
+    if (c.k1 < INT_MAX) {
+        int i = c.k1, v = c.k2;
+        rc = tp_fail_line(B, s->folds[i].line, "%s passes through vertex %s, which is not one of "
+                          "its ends", tp_FN(B, i).s, VN(B, v));
+        goto done;
+    }
+    pair_check_init(&c, B);
+    c.least_edge = least_edge;
+    for (int i = 0; i < nf; i++) least_edge[i] = INT_MAX;
+    if (tp_box_pairs(nf, fbox, nb, ebox, tol, outline_pair, &c)) {
+        rc = tp_nomem(B);
+        goto done;
     }
     for (int i = 0; i < nf; i++) {
         const sf_fold_def *f = &s->folds[i];
         int pa = B->bpos[f->a], pb = B->bpos[f->b];
-        if (pa >= 0 && pb >= 0 && ((pa + 1) % nb == pb || (pb + 1) % nb == pa))
-            return tp_fail_line(B, f->line, "%s lies on the outline", tp_FN(B, i).s);
-        for (int k = 0; k < nb; k++) {
-            int p = t->boundary[k], q = t->boundary[(k + 1) % nb];
-            if (tp_proper_cross(VX(B, f->a), VX(B, f->b), VX(B, p), VX(B, q), tol))
-                return tp_fail_line(B, f->line, "%s crosses the outline (edge %s-%s)", tp_FN(B, i).s,
-                                 VN(B, p), VN(B, q));
+        if (pa >= 0 && pb >= 0 && ((pa + 1) % nb == pb || (pb + 1) % nb == pa)) {
+            rc = tp_fail_line(B, f->line, "%s lies on the outline", tp_FN(B, i).s);
+            goto done;
+        }
+        if (least_edge[i] < INT_MAX) {
+            int k = least_edge[i], p = t->boundary[k], q = t->boundary[(k + 1) % nb];
+            rc = tp_fail_line(B, f->line, "%s crosses the outline (edge %s-%s)", tp_FN(B, i).s,
+                              VN(B, p), VN(B, q));
+            goto done;
         }
     }
-    for (int j = 0; j < nf; j++)
-        for (int i = 0; i < j; i++) {
-            const sf_fold_def *fi = &s->folds[i], *fj = &s->folds[j];
-            const double *p = VX(B, fi->a), *q = VX(B, fi->b), *r = VX(B, fj->a), *w = VX(B, fj->b);
-            if (!tp_proper_cross(p, q, r, w, tol)) continue;
-            double d[2], e[2], g[2];
-            tp_sub2(q, p, d);
-            tp_sub2(w, r, e);
-            tp_sub2(r, p, g);
-            double u = cross2(g, e) / cross2(d, e);
-            return tp_fail_line(B, fj->line, "%s crosses %s at (%g, %g) without a common vertex",
-                             tp_FN(B, j).s, tp_FN(B, i).s, p[0] + u * d[0], p[1] + u * d[1]);
-        }
+    pair_check_init(&c, B);
+    if (tp_box_pairs(nf, fbox, 0, NULL, tol, cross_pair, &c)) {
+        rc = tp_nomem(B);
+        goto done;
+    }
+    if (c.k1 < INT_MAX) {
+        int j = c.k1, i = c.k2;
+        const sf_fold_def *fi = &s->folds[i], *fj = &s->folds[j];
+        const double *p = VX(B, fi->a), *q = VX(B, fi->b), *r = VX(B, fj->a), *w = VX(B, fj->b);
+        double d[2], e[2], g[2];
+        tp_sub2(q, p, d);
+        tp_sub2(w, r, e);
+        tp_sub2(r, p, g);
+        double u = cross2(g, e) / cross2(d, e);
+        rc = tp_fail_line(B, fj->line, "%s crosses %s at (%g, %g) without a common vertex",
+                          tp_FN(B, j).s, tp_FN(B, i).s, p[0] + u * d[0], p[1] + u * d[1]);
+        goto done;
+    }
     /* with no crossing and no foreign vertex on it, a fold is wholly inside
      * or wholly outside: its midpoint tells which */
     double (*P)[2] = malloc(sizeof *P * (size_t)nb);
-    if (!P) return tp_nomem(B);
+    if (!P) {
+        rc = tp_nomem(B);
+        goto done;
+    }
     for (int k = 0; k < nb; k++) {
         P[k][0] = VX(B, t->boundary[k])[0];
         P[k][1] = VX(B, t->boundary[k])[1];
     }
-    int rc = SF_OK;
     for (int i = 0; i < nf && rc == SF_OK; i++) {
         const sf_fold_def *f = &s->folds[i];
         double mid[2] = {0.5 * (VX(B, f->a)[0] + VX(B, f->b)[0]),
@@ -253,6 +379,11 @@ int tp_check_folds_geometry(topo_build *B)
             rc = tp_fail_line(B, f->line, "%s lies outside the outline", tp_FN(B, i).s);
     }
     free(P);
+done:
+    free(vbox);
+    free(fbox);
+    free(ebox);
+    free(least_edge);
     return rc;
 }
 
@@ -277,21 +408,40 @@ static int bands_overlap(const sf_fold_geom *g, const sf_fold_geom *h, double to
     return 1;
 }
 
+/* bands of folds j > i that overlap */
+static void band_pair(void *ctx, int j, int i)
+{
+    pair_check *c = ctx;
+    const sf_topology *t = c->B->t;
+    if (bands_overlap(&t->folds[i], &t->folds[j], c->B->tol)) take(c, j, i);
+}
+
 int tp_check_bands(topo_build *B)
 {
     const sf_study *s = B->s;
     const sf_topology *t = B->t;
-    for (int j = 0; j < t->nfolds; j++)
-        for (int i = 0; i < j; i++) {
-            if (!bands_overlap(&t->folds[i], &t->folds[j], B->tol)) continue;
-            const sf_fold_def *fi = &s->folds[i], *fj = &s->folds[j];
-            int common = (fi->a == fj->a || fi->a == fj->b) ? fi->a
-                         : (fi->b == fj->a || fi->b == fj->b) ? fi->b : -1;
-            if (common >= 0)
-                return tp_fail_line(B, fj->line, "bands of %s and %s overlap; increase their "
-                                 "setbacks at %s or make them narrower",
-                                 tp_FN(B, j).s, tp_FN(B, i).s, VN(B, common));
-            return tp_fail_line(B, fj->line, "bands of %s and %s overlap", tp_FN(B, j).s, tp_FN(B, i).s);
-        }
+    int nf = t->nfolds;
+    tp_box *box = malloc(sizeof(tp_box) * (size_t)(nf ? nf : 1));
+    if (!box) return tp_nomem(B);
+    for (int i = 0; i < nf; i++) {
+        tp_box_empty(&box[i]);
+        for (int c = 0; c < 4; c++) tp_box_add(&box[i], t->folds[i].corner[c]);
+    }
+    pair_check c;
+    pair_check_init(&c, B);
+    int rc = tp_box_pairs(nf, box, 0, NULL, B->tol, band_pair, &c);
+    free(box);
+    if (rc) return tp_nomem(B);
+    if (c.k1 < INT_MAX) {
+        int j = c.k1, i = c.k2;
+        const sf_fold_def *fi = &s->folds[i], *fj = &s->folds[j];
+        int common = (fi->a == fj->a || fi->a == fj->b) ? fi->a
+                     : (fi->b == fj->a || fi->b == fj->b) ? fi->b : -1;
+        if (common >= 0)
+            return tp_fail_line(B, fj->line, "bands of %s and %s overlap; increase their "
+                                "setbacks at %s or make them narrower",
+                                tp_FN(B, j).s, tp_FN(B, i).s, VN(B, common));
+        return tp_fail_line(B, fj->line, "bands of %s and %s overlap", tp_FN(B, j).s, tp_FN(B, i).s);
+    }
     return SF_OK;
 }

@@ -10,6 +10,8 @@
  *   topology_check.c    steps 1, 2 and 6 of sf_topology_build: the outline,
  *                       the folds and the bands checked
  *   topology_bodies.c   step 7: the rigid face bodies
+ *   topology_grid.c     the pairs of nearby items the checks test (boxes
+ *                       in a uniform grid, no loop over all pairs)
  */
 #ifndef SF_TOPOLOGY_IMPL_H
 #define SF_TOPOLOGY_IMPL_H
@@ -71,6 +73,18 @@ int tp_proper_cross(const double p[2], const double q[2], const double r[2],
 double tp_seg_seg(const double p[2], const double q[2], const double r[2], const double s[2]);
 double tp_side(const double p[2], const double q[2], const double r[2]);
 void tp_sub2(const double a[2], const double b[2], double r[2]);
+
+/* topology_grid.c: pairs of nearby boxes */
+typedef struct tp_box { double lo[2], hi[2]; } tp_box;
+void tp_box_empty(tp_box *b);                      /* lo = +inf, hi = -inf */
+void tp_box_add(tp_box *b, const double p[2]);     /* grow to contain p */
+/* visit(ctx, a, b) for every pair of a box a of A (na) and a box b of Bx
+ * (nb) that overlap when grown by tol (|gap| <= tol on both axes); with
+ * Bx NULL the pairs within A, b < a.  Every such pair once, in no set
+ * order (a check that reports the first failing pair of a loop takes the
+ * least); empty boxes take no part.  0, or -1 when out of memory. */
+int tp_box_pairs(int na, const tp_box *A, int nb, const tp_box *Bx, double tol,
+                 void (*visit)(void *ctx, int a, int b), void *ctx);
 
 /* topology_check.c: outline, folds and bands checked */
 int tp_check_bands(topo_build *B);
