@@ -39,6 +39,8 @@ typedef struct sf_flatlimit_info {
     int ncand;
     int cand_kind[3], cand_conv[3];   /* cand_conv -1: left, falling back to the flat state */
     int collapsed;      /* the last start was left falling back to the flat state */
+    int eta_retry;      /* the first start fell back to the flat state and was made
+                         * again with the penalty stages from eta = 1e-9 */
     double cand_energy[3];
 } sf_flatlimit_info;
 

@@ -496,20 +496,24 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
                                                                   "budget");
             }
         }
+        /* the first start fell back to the flat state at eta = 1e-8 */
+        const char *retry = lim && li.eta_retry ? "; penalty stages from eta = 1e-9 (from 1e-8 "
+                                                  "the first start fell back to the flat state)"
+                                                : "";
         if (lim && li.ties)
             snprintf(lnote, sizeof lnote, "the driving selects no single branch: the lowest "
                      "limit state found and its mirror in the mode amplitudes have equal energy "
                      "%.9g (a symmetric start; limit states found: %s; %d starts, %d Newton "
-                     "iterations, %d MUMPS factorisations); following the first of the two, the "
+                     "iterations, %d MUMPS factorisations%s); following the first of the two, the "
                      "one the declared imperfection -1e-2 of the mode amplitudes leads to (the "
                      "lowest of the states found, not a global guarantee)", li.energy, cands,
-                     li.starts, li.iterations, li.factorisations);
+                     li.starts, li.iterations, li.factorisations, retry);
         else if (lim)
             snprintf(lnote, sizeof lnote, "the driving's branch from the sparse limit problem "
                      "(%d starts, %d Newton iterations, %d MUMPS factorisations, %d saddles "
-                     "left; limit energy %.9g; limit states found: %s; the lowest of the states "
+                     "left; limit energy %.9g; limit states found: %s%s; the lowest of the states "
                      "found, not a global guarantee)", li.starts, li.iterations,
-                     li.factorisations, li.pushes, li.energy, cands);
+                     li.factorisations, li.pushes, li.energy, cands, retry);
         else
             snprintf(lnote, sizeof lnote, "the sparse limit problem failed (%.200s): the "
                      "driving's first-order response with a declared imperfection (every mode "
