@@ -7,8 +7,9 @@
  *   det A = det Jy * g,
  *   A^{-1} b: w = Jy^{-1} b_y, x_p = (b_n - c_y . w) / g, x_y = w - x_p z,
  * one solve with Jy per bordered solve (z is computed once per
- * factorisation).  Block elimination is unstable where Jy is nearly
- * singular (limit points in p, branch points, the flat state): the two
+ * factorisation), none when b_y = 0 (the tangent system's e_n: w = 0).
+ * Block elimination is unstable where Jy is nearly singular (limit
+ * points in p, branch points, the flat state): the two
  * terms of x_y grow like 1/sigma_min(Jy) and cancel.  Each solve is
  * therefore checked against A itself (componentwise backward error,
  * Oettli-Prager) and refined with the same factors; the caller
@@ -179,8 +180,16 @@ static int blk_apply(cont_bmat *bm, const double *rhs, double *x)
 {
     struct cont_blk *b = bm->blk;
     long n = b->n;
-    memcpy(N_VGetArrayPointer(b->vb), rhs, (size_t)n * sizeof(double));
-    if (SUNLinSolSolve(b->LS, b->L, b->vx, b->vb, 0.0) != 0) return -1;
+    long nz = 0;
+    while (nz < n && rhs[nz] == 0.0) nz++;
+    if (nz == n) {
+        /* b_y = 0 (the tangent's e_n): w = 0 exactly, as the solve
+         * would give it */
+        memset(N_VGetArrayPointer(b->vx), 0, (size_t)n * sizeof(double));
+    } else {
+        memcpy(N_VGetArrayPointer(b->vb), rhs, (size_t)n * sizeof(double));
+        if (SUNLinSolSolve(b->LS, b->L, b->vx, b->vb, 0.0) != 0) return -1;
+    }
     const double *w = N_VGetArrayPointer(b->vx);
     double cw = 0.0;
     for (long i = 0; i < n; i++) cw += b->cy[i] * w[i];

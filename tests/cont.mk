@@ -19,7 +19,13 @@ TESTS += tests/test_cont_block
 tests_test_cont_block_SOURCES = tests/test_cont_block.c tests/cont_test.h
 tests_test_cont_block_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_cont_block_LDADD = $(SF_TEST_LIBS)
-
+# the corrector's MUMPS solves (dmumps_c wrapped by the linker)
+check_PROGRAMS += tests/test_cont_solves
+TESTS += tests/test_cont_solves
+tests_test_cont_solves_SOURCES = tests/test_cont_solves.c tests/cont_test.h
+tests_test_cont_solves_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_cont_solves_LDFLAGS = -Wl,--wrap=dmumps_c
+tests_test_cont_solves_LDADD = $(SF_TEST_LIBS)
 # Newton at fixed p in cont_start: the LDL^T of a symmetric Jy, the line
 # search as fallback (dmumps_c wrapped by the linker)
 check_PROGRAMS += tests/test_cont_start
