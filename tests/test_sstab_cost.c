@@ -86,6 +86,31 @@ static void test_cluster_bounded(void **state)
 
 #define NS 40 /* coordinates of the square case */
 
+/* The lower triangle of HL = tridiag(off, diag, off) (NS x NS) and the
+ * dense nc x NS matrix Cd, both into CSC arrays. */
+static void pack_case(int nc, const double (*Cd)[NS], double diag, double off, int *cp, int *ri,
+                      double *v, int *ccp, int *cri, double *cv)
+{
+    int t = 0, u = 0;
+    for (int j = 0; j < NS; j++) {
+        cp[j] = t;
+        ri[t] = j;
+        v[t++] = diag;
+        if (j + 1 < NS) {
+            ri[t] = j + 1;
+            v[t++] = off;
+        }
+        ccp[j] = u;
+        for (int i = 0; i < nc; i++)
+            if (Cd[i][j] != 0.0) {
+                cri[u] = i;
+                cv[u++] = Cd[i][j];
+            }
+    }
+    cp[NS] = t;
+    ccp[NS] = u;
+}
+
 /* C (NS + 1 rows): rows 0..NS-2 r_i = e_i + 0.3 sin(i) e_{i+1} + 0.7 cos(i)
  * e_{(i+5) mod NS} (independent), row NS-1 = r_3 + r_17 + 1e-8 a e_{NS-1}
  * (as a unit row about 1e-8 a from the span of the others, above the
@@ -105,24 +130,7 @@ static void square_case(double a, int *cp, int *ri, double *v, int *ccp, int *cr
         Cd[NS][j] = 3.0 * Cd[0][j];
     }
     Cd[NS - 1][NS - 1] += 1e-8 * a;
-    int t = 0, u = 0;
-    for (int j = 0; j < NS; j++) {
-        cp[j] = t;
-        ri[t] = j;
-        v[t++] = -1.0;
-        if (j + 1 < NS) {
-            ri[t] = j + 1;
-            v[t++] = -1.0;
-        }
-        ccp[j] = u;
-        for (int i = 0; i <= NS; i++)
-            if (Cd[i][j] != 0.0) {
-                cri[u] = i;
-                cv[u++] = Cd[i][j];
-            }
-    }
-    cp[NS] = t;
-    ccp[NS] = u;
+    pack_case(NS + 1, Cd, -1.0, -1.0, cp, ri, v, ccp, cri, cv);
 }
 
 static void test_square_rows(void **state)
@@ -185,24 +193,7 @@ static void streak_case(double a, int *cp, int *ri, double *v, int *ccp, int *cr
     }
     for (int j = 0; j < NS; j++) Cd[NT][j] = Cd[3][j] + Cd[17][j];
     Cd[NT][NS - 1] += 1e-10 * a;
-    int t = 0, u = 0;
-    for (int j = 0; j < NS; j++) {
-        cp[j] = t;
-        ri[t] = j;
-        v[t++] = 2.0 + 0.1 * a;
-        if (j + 1 < NS) {
-            ri[t] = j + 1;
-            v[t++] = -0.5;
-        }
-        ccp[j] = u;
-        for (int i = 0; i <= NT; i++)
-            if (Cd[i][j] != 0.0) {
-                cri[u] = i;
-                cv[u++] = Cd[i][j];
-            }
-    }
-    cp[NS] = t;
-    ccp[NS] = u;
+    pack_case(NT + 1, Cd, 2.0 + 0.1 * a, -0.5, cp, ri, v, ccp, cri, cv);
 }
 
 static void test_streak_rows(void **state)
