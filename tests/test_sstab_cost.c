@@ -86,6 +86,27 @@ static void test_cluster_bounded(void **state)
 
 #define NS 40 /* coordinates of the square case */
 
+/* Evaluate st (the path's object, reusing rows) at (H, C) and a fresh
+ * object (*ref, deciding with a QR) at the same point; their rank and
+ * verdicts must agree.  Returns st's result, *F the fresh one (free *ref). */
+static const sf_sstab_result *eval_against_fresh(sf_sstab *st, const sf_csc *H, const sf_csc *C,
+                                                 const sf_sstab_opts *o, sf_sstab **ref,
+                                                 const sf_sstab_result **F)
+{
+    sf_error err;
+    sf_error_clear(&err);
+    assert_int_equal(sf_sstab_eval(st, H, C, &err), SF_OK);
+    const sf_sstab_result *R = sf_sstab_get(st);
+    assert_int_equal(sf_sstab_create(ref, H->ncol, C->nrow, o, &err), SF_OK);
+    assert_int_equal(sf_sstab_eval(*ref, H, C, &err), SF_OK);
+    *F = sf_sstab_get(*ref);
+    assert_int_equal(R->rank, (*F)->rank);
+    assert_int_equal(R->stable, (*F)->stable);
+    assert_int_equal(R->morse, (*F)->morse);
+    assert_int_equal(R->status, (*F)->status);
+    return R;
+}
+
 /* The lower triangle of HL = tridiag(off, diag, off) (NS x NS) and the
  * dense nc x NS matrix Cd, both into CSC arrays. */
 static void pack_case(int nc, const double (*Cd)[NS], double diag, double off, int *cp, int *ri,
@@ -148,22 +169,13 @@ static void test_square_rows(void **state)
         double a = 1.0 + 0.01 * k;
         square_case(a, cp, ri, v, ccp, cri, cv);
         sf_csc H = {NS, NS, cp, ri, v}, C = {NS + 1, NS, ccp, cri, cv};
-        assert_int_equal(sf_sstab_eval(st, &H, &C, &err), SF_OK);
-        const sf_sstab_result *R = sf_sstab_get(st);
-        /* reference: a fresh object decides with a QR */
         sf_sstab *ref;
-        assert_int_equal(sf_sstab_create(&ref, NS, NS + 1, &o, &err), SF_OK);
-        assert_int_equal(sf_sstab_eval(ref, &H, &C, &err), SF_OK);
-        const sf_sstab_result *F = sf_sstab_get(ref);
+        const sf_sstab_result *F, *R = eval_against_fresh(st, &H, &C, &o, &ref, &F);
         print_message("# square, point %d: rank %d (fresh %d), stable %d, %d QRs, %d checks, "
                       "%d reused\n", k, R->rank, F->rank, R->stable, R->rank_qr, R->rank_checks,
                       R->rank_reused);
         assert_int_equal(R->rank, NS);
-        assert_int_equal(R->rank, F->rank);
         assert_int_equal(R->dim, 0);
-        assert_int_equal(R->stable, F->stable);
-        assert_int_equal(R->morse, F->morse);
-        assert_int_equal(R->status, F->status);
         /* point 0: a QR; point 1: a check (fails on round-off); points 2..8:
          * no check, a QR each; point 9: a check again (fails: 2 in a row);
          * points 10..24 none; point 25 a check (3 in a row), then every 32nd */
@@ -211,22 +223,14 @@ static void test_streak_rows(void **state)
         double a = 1.0 + 0.01 * k;
         streak_case(a, cp, ri, v, ccp, cri, cv);
         sf_csc H = {NS, NS, cp, ri, v}, C = {NT + 1, NS, ccp, cri, cv};
-        assert_int_equal(sf_sstab_eval(st, &H, &C, &err), SF_OK);
-        const sf_sstab_result *R = sf_sstab_get(st);
         sf_sstab *ref;
-        assert_int_equal(sf_sstab_create(&ref, NS, NT + 1, &o, &err), SF_OK);
-        assert_int_equal(sf_sstab_eval(ref, &H, &C, &err), SF_OK);
-        const sf_sstab_result *F = sf_sstab_get(ref);
+        const sf_sstab_result *F, *R = eval_against_fresh(st, &H, &C, &o, &ref, &F);
         print_message("# streak, point %d: rank %d (fresh %d), stable %d, eig1 %.15g (fresh "
                       "%.15g), %d QRs, %d checks, %d reused\n", k, R->rank, F->rank, R->stable,
                       R->neig ? R->eig[0] : NAN, F->neig ? F->eig[0] : NAN, R->rank_qr,
                       R->rank_checks, R->rank_reused);
         assert_int_equal(R->rank, NT);
-        assert_int_equal(R->rank, F->rank);
         assert_int_equal(R->stable, 1);
-        assert_int_equal(R->stable, F->stable);
-        assert_int_equal(R->morse, F->morse);
-        assert_int_equal(R->status, F->status);
         assert_int_equal(R->neig, 2);
         assert_int_equal(R->neig, F->neig);
         for (int i = 0; i < R->neig; i++)
