@@ -398,7 +398,10 @@ int cont_set_arc_scale(cont_solver *s, double a);
  * anchored at its multipliers, at the smaller weights of the next levels
  * while a level converges but the plain F stays above ftol; a result is
  * kept only if the plain F meets ftol, else the plain correctors follow
- * as without it.  For long steps on problems whose Jacobian is singular
+ * as without it.  A point of the first level is then re-anchored at
+ * itself twice (proximal iterations with the same factors), which removes
+ * most of the anchor's bias eps D (y - ya) from the state; these
+ * iterations are not counted by the step control.  For long steps on problems whose Jacobian is singular
  * at the solutions in directions it is not singular in nearby (e.g. self-
  * stresses of constraints that exist only on the solution set), where the
  * plain Newton converges only linearly.  Default 0. */
@@ -408,7 +411,9 @@ int cont_set_anchor_first(cont_solver *s, int on);
  * of the tangent over the last step (length h, tangent t_prev before it):
  * x + ds t + ds^2 / 2 (t - t_prev) / h; its error is O(ds^3) instead of
  * O(ds^2), so a longer step starts as close to the branch.  The first
- * step after a start or a branch switch is of order 1. */
+ * step after a start or a branch switch is of order 1, and so is every
+ * step once a residual floor was met (an anchored solve needed a level
+ * above 1: the tangents there are fixed only to the floor's accuracy). */
 int cont_set_predictor(cont_solver *s, int order);
 /* corrector: tolerance on max|fscale F| (default 1e-10), iterations
  * (default 10), strategy KIN_NONE (0, default) or KIN_LINESEARCH (1) */

@@ -337,10 +337,13 @@ static int correct_reuse_anchored(cont_solver *s, double *x, const double *c, co
      * from the point with the same factors) it shrinks: on the Miura
      * sheets two bring the fold angles to the plain corrector's points
      * (continuation/README.md, "Larger steps").  Not counted by the step
-     * control (s->polish_iters), counted in the statistics. */
+     * control (s->polish_iters), counted in the statistics.  Only at the
+     * first level: at a residual floor (smaller weights) the proximal
+     * iterations drift along the nearly dependent rows instead
+     * (docs/formulations.md, "Exact treatments tried"). */
     int lv = lev <= ANCHOR_LAST ? lev : ANCHOR_LAST;
     long ip = s->stp.newton_iters;
-    for (int j = 0; fs <= s->ftol && j < REANCHORS; j++) {
+    for (int j = 0; fs <= s->ftol && lv == 1 && j < REANCHORS; j++) {
         memcpy(s->w1, u, (size_t)m * sizeof(double));
         if (s->prob.anchor(u, u[n], lv, s->prob.user) != 0) break;
         int r = reuse_newton(s, u, c, xa, sig, maxit, 0, 1, NULL, NULL);

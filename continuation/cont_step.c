@@ -351,9 +351,12 @@ static int compute_step(cont_solver *s)
                         s->why[0] ? s->why : "no reason recorded", fl);
         }
         for (long i = 0; i < m; i++) x1->x[i] = b->x[i] + ds * b->t[i];
-        if (s->predictor == 2 && s->hprev > 0) {
+        if (s->predictor == 2 && s->hprev > 0 && s->anchor_level == 0 && s->reuse_level <= 1) {
             /* second order: the curvature from the tangents' change over
-             * the last step, x(s) = x + s t + s^2/2 (t - t_prev) / h_prev */
+             * the last step, x(s) = x + s t + s^2/2 (t - t_prev) / h_prev;
+             * not once a residual floor was met (an anchored level > 1):
+             * the states there are fixed only to the floor's accuracy, and
+             * so are the tangents' differences */
             double q = 0.5 * ds * ds / s->hprev;
             for (long i = 0; i < m; i++) x1->x[i] += q * (b->t[i] - s->tprev[i]);
         }
