@@ -15,7 +15,12 @@
 #     path takes at most 15 points and 1.8 factorisations per point (12 and
 #     17 measured; without the anchored corrector 20 points and 44
 #     factorisations: its plain Newton converges only linearly from the
-#     long steps there).
+#     long steps there);
+#  5: the arclength s of the first point off the flat state (the chord
+#     from the flat state, run_point.c) is measured in the path's norm:
+#     the 3x3 sheet's first point is the same with both norms, and
+#     (s1^2 - p1^2) of "sum" over that of "rms" is the number of fold
+#     coordinates, 2 per fold with K = 1 (the angle and one mode).
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 bin=${SF_BUILDDIR:-.}/src/smoothfold
@@ -24,7 +29,7 @@ trap 'rm -rf "$tmp"' EXIT
 i=0
 ok() { i=$((i + 1)); echo "ok $i - $1"; }
 nok() { i=$((i + 1)); echo "not ok $i - $1"; }
-echo "1..4"
+echo "1..5"
 run() {   # run M NORM
     "$bin" run "$tmp/m$1.cfg" -q -o "$tmp/o$1$2" --set 'solver.formulation="poses"' \
         --set 'analysis.flat_start="sparse"' --set analysis.stability=false \
@@ -63,4 +68,15 @@ if awk -v a="$n3" -v b="$n8" -v f="$fac" 'BEGIN {d = a - b; if (d < 0) d = -d; e
     ok "points: 3x3 $n3, 8x8 $n8 (default norm: 3x3 $n3s); 8x8 factorisations $fac"
 else
     nok "points: 3x3 $n3, 8x8 $n8, 8x8 factorisations $fac"
+fi
+# s and p of the first point off the flat state (row 1)
+first() { awk -F'\t' '/^#/ {next} !h {h = 1; next} $1 == 1 {print $3, $4}' "$1"; }
+set -- $(first "$tmp/o3sum/branch.tsv") $(first "$tmp/o3rms/branch.tsv")
+nf=$(grep -c 'from = ' "$tmp/m3.cfg")
+if awk -v ss="$1" -v ps="$2" -v sr="$3" -v pr="$4" -v nq=$((2 * nf)) 'BEGIN {
+        dp = ps - pr; if (dp < 0) dp = -dp; r = (ss * ss - ps * ps) / (sr * sr - pr * pr)
+        d = r / nq - 1; if (d < 0) d = -d; exit !(ps > 0 && dp <= 1e-9 * ps && d <= 1e-6)}'; then
+    ok "first point: s = $1 (sum), $3 (rms) at p = $2, $4: the ratio of the fold parts is $((2 * nf)) fold coordinates"
+else
+    nok "first point: s = $1 (sum), $3 (rms) at p = $2, $4: fold parts not in the ratio $((2 * nf))"
 fi
