@@ -7,7 +7,9 @@
 #   actuation  m actuation K  rest angles of both groups, p = 0..1 (rest
 #                             angles up to 2.6 rad = 149 degrees)
 # run with solver.formulation = "poses", exact closure, the flat start
-# START (default "direct"), stability on (STAB=1) or off (STAB=0), to the
+# START (default "direct"), the step norm STEP_NORM (analysis.step_norm,
+# default "sum"; "rms" takes steps of the same fold-angle change on every
+# sheet size, continuation/README.md), stability on (STAB=1) or off (STAB=0), to the
 # end of the path (analysis.max_steps = STEPS, default 100000) within
 # TIMEOUT seconds (default 600).  Prints a markdown table: unknowns,
 # Jacobian nonzeros, points, p reached, Newton iterations of the accepted
@@ -23,7 +25,8 @@
 # the sizes m >= FITFROM (default 8) that reached the end of the path.
 # Environment: DRIVINGS (default "load actuation"), SIZES (default
 # "2 4 8 16 31"), K (fold modes, default 1), STAB, STEPS, TIMEOUT, START,
-# FITFROM, FORMULATION (default poses; "folds" uses the limit start).
+# FITFROM, STEP_NORM, FORMULATION (default poses; "folds" uses the limit
+# start).
 src=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$src}
 bin=$build/src/smoothfold
@@ -37,10 +40,11 @@ fitfrom=${FITFROM:-8}
 stab=true
 [ "${STAB:-1}" = 0 ] && stab=false
 start=${START:-direct}
+norm=${STEP_NORM:-sum}
 [ "$form" = folds ] && [ -z "$START" ] && start=limit
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-echo "K = $K, stability $stab, flat start $start, formulation $form, timeout $tmo s"
+echo "K = $K, stability $stab, flat start $start, formulation $form, step norm $norm, timeout $tmo s"
 echo
 echo "| driving | m | folds | unknowns | nonzeros | points | p reached | Newton | Jacobians | factorisations | retries | wall [s] | CPU [s] | peak MB | status |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
@@ -51,6 +55,7 @@ for d in $drivings; do
         /usr/bin/time -v -o "$t.time" timeout "$tmo" "$bin" run "$t.cfg" -q \
             --set analysis.stability="$stab" --set analysis.max_steps="$steps" \
             --set analysis.flat_start=\""$start"\" --set solver.formulation=\""$form"\" \
+            --set analysis.step_norm=\""$norm"\" \
             -o "$t.out" > "$t.log" 2>&1
         rc=$?
         wall=$(awk -F': ' '/Elapsed \(wall clock\)/ { n = split($2, a, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + a[i]; print s }' "$t.time")

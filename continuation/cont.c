@@ -50,13 +50,13 @@ double ci_dotw(const cont_solver *s, const double *a, const double *b)
         for (long i = 0; i < s->n; i++) d += s->wy[i] * a[i] * b[i];
     else
         for (long i = 0; i < s->n; i++) d += a[i] * b[i];
-    return d + s->theta * s->theta * a[s->n] * b[s->n];
+    return s->arc2 * d + s->theta * s->theta * a[s->n] * b[s->n];
 }
 
 /* c = W t */
 void ci_weigh(const cont_solver *s, const double *t, double *c)
 {
-    for (long i = 0; i < s->n; i++) c[i] = s->wy ? s->wy[i] * t[i] : t[i];
+    for (long i = 0; i < s->n; i++) c[i] = s->arc2 * (s->wy ? s->wy[i] * t[i] : t[i]);
     c[s->n] = s->theta * s->theta * t[s->n];
 }
 
@@ -152,6 +152,7 @@ void ci_clear_run(cont_solver *s)
     s->nspec = 0;
     s->state = ST_IDLE;
     s->anchor_level = 0;
+    s->reuse_level = 0;
     s->stop_reason = CONT_STOP_NONE;
     s->steps = 0;
     s->index = 0;
@@ -184,6 +185,7 @@ void cont_free(cont_solver *s)
     free(s->cw);
     free(s->w1);
     free(s->rc);
+    free(s->tprev);
     free(s->rw);
     free(s->mark);
     free(s->stamp);
@@ -231,7 +233,7 @@ int cont_create(const cont_problem *prob, int linsol, cont_solver **out)
     s->ds0 = 0.01; s->ds_min = 1e-8; s->ds_max = 0.1;
     s->grow = 1.5; s->shrink = 0.5; s->fast_iters = 3; s->max_angle = 0.5;
     s->p_min = -HUGE_VAL; s->p_max = HUGE_VAL; s->s_max = HUGE_VAL;
-    s->max_steps = 1000; s->theta = 1.0;
+    s->max_steps = 1000; s->theta = 1.0; s->arc2 = 1.0; s->predictor = 1;
     s->ftol = 1e-10; s->xtol = 1e-6; s->max_newton = 10; s->strategy = KIN_NONE;
     s->init_maxit = 50; s->init_strategy = KIN_LINESEARCH;
     s->detect = CONT_DETECT_ALL; s->loc_tol = 1e-10;
@@ -263,13 +265,14 @@ int cont_create(const cont_problem *prob, int linsol, cont_solver **out)
     s->cw = calloc((size_t)m, sizeof(double));
     s->w1 = calloc((size_t)m, sizeof(double));
     s->rc = calloc((size_t)m, sizeof(double));
+    s->tprev = calloc((size_t)m, sizeof(double));
     s->rw = calloc(2 * (size_t)m, sizeof(double));
     s->rgen = -1;
     s->corrector = linsol == CONT_LINSOL_DENSE ? CONT_CORRECTOR_NEWTON : CONT_CORRECTOR_REUSE;
     s->mark = calloc((size_t)m + 2, 1);
     s->stamp = calloc((size_t)n, sizeof(long));
     if (!s->u || !s->uscale || !s->fscale || !s->vx || !s->vb || !s->Fp || !s->bc ||
-        !s->bxa || !s->cw || !s->w1 || !s->mark || !s->stamp || !s->rc || !s->rw)
+        !s->bxa || !s->cw || !s->w1 || !s->mark || !s->stamp || !s->rc || !s->rw || !s->tprev)
         return ci_fail(s, CONT_ENOMEM, "out of memory (n = %ld)", n);
     N_VConst(1.0, s->uscale);
     N_VConst(1.0, s->fscale);
@@ -389,6 +392,33 @@ int cont_set_theta(cont_solver *s, double theta_p)
     if (s->state == ST_RUN)
         return ci_fail(s, CONT_ESTATE, "cont_set_theta: cannot change the norm during a run");
     s->theta = theta_p;
+    return CONT_OK;
+}
+
+int cont_set_arc_scale(cont_solver *s, double a)
+{
+    NEED(s);
+    if (!(a > 0) || !isfinite(a))
+        return ci_fail(s, CONT_EINPUT, "cont_set_arc_scale: need a > 0 (got %g)", a);
+    if (s->state == ST_RUN)
+        return ci_fail(s, CONT_ESTATE, "cont_set_arc_scale: cannot change the norm during a run");
+    s->arc2 = a * a;
+    return CONT_OK;
+}
+
+int cont_set_predictor(cont_solver *s, int order)
+{
+    NEED(s);
+    if (order != 1 && order != 2)
+        return ci_fail(s, CONT_EINPUT, "cont_set_predictor: order 1 or 2 (got %d)", order);
+    s->predictor = order;
+    return CONT_OK;
+}
+
+int cont_set_anchor_first(cont_solver *s, int on)
+{
+    NEED(s);
+    s->anchor_first = on != 0;
     return CONT_OK;
 }
 

@@ -27,7 +27,8 @@
  * Norm.  y and p may have different units, so the arclength s is measured in
  * the weighted norm  |(dy, dp)|_W^2 = dy.dy + theta^2 dp^2  (option theta_p,
  * default 1; W = diag(1, ..., 1, theta^2); cont_set_weights replaces the
- * ones by per-component weights).  theta > 1 makes p weigh more,
+ * ones by per-component weights, cont_set_arc_scale scales them by a^2 in
+ * the norm alone).  theta > 1 makes p weigh more,
  * i.e. shorter steps in p; theta < 1 lets p move faster.  Tangents are unit
  * vectors in this norm; step sizes ds, ds_min, ds_max and s_max are in it.
  *
@@ -38,7 +39,9 @@
  * [Jy Fp; e_p^T] v = [0; 1] (direction of increasing p) times the user's
  * sign dir = +1 / -1; this needs Jy regular at the start point.
  *
- * Predictor-corrector step (Keller).  Predictor x_pred = x0 + ds t0.
+ * Predictor-corrector step (Keller).  Predictor x_pred = x0 + ds t0
+ * (cont_set_predictor 2: plus ds^2 / 2 (t0 - t_prev) / h_prev, the
+ * curvature from the tangents of the last step).
  * Corrector: KINSOL (Newton, exact Jacobian refreshed at every iteration) on
  * the (n+1) system
  *        F(y, p) = 0,
@@ -307,7 +310,8 @@ typedef struct cont_point {
     long index;          /* 0 for the start point, then 1, 2, ... */
     const double *y;     /* n values */
     double p;
-    const double *ty;    /* unit tangent: |ty|^2 + theta^2 tp^2 = 1 */
+    const double *ty;    /* unit tangent: a^2 sum w_i ty_i^2 + theta^2 tp^2 = 1
+                            (the norm's weights, scale and theta) */
     double tp;
     double s;            /* arclength from the start point (W-norm) */
     double ds;           /* step that produced the point (special points:
@@ -380,6 +384,37 @@ int cont_set_theta(cont_solver *s, double theta_p);
  * long as the tangent has a non-zero weighted part.  Branch directions are
  * then W-orthogonal in this norm. */
 int cont_set_weights(cont_solver *s, const double *w);
+/* the y part of the arclength norm scaled by a > 0 (default 1):
+ * |(dy, dp)|^2 = a^2 sum_i w[i] dy_i^2 + theta^2 dp^2, in the steps, the
+ * border row and the tangent's normalisation; the corrector's step test
+ * (|last Newton step| <= xtol (1 + |u|), weighted by w) keeps w alone.  E.g.
+ * a = 1 / sqrt(count of weighted components): an RMS measure of dy whose
+ * steps mean the same on a small and a large problem. */
+int cont_set_arc_scale(cont_solver *s, double a);
+/* on != 0: the reusing corrector (CONT_CORRECTOR_REUSE, no line search)
+ * solves the problem's anchored system (cont_anchor_fn) first at every
+ * step from the first one, and at the landing on the end of the p
+ * window, not only after a residual floor was met: from the predictor,
+ * anchored at its multipliers, at the smaller weights of the next levels
+ * while a level converges but the plain F stays above ftol; a result is
+ * kept only if the plain F meets ftol, else the plain correctors follow
+ * as without it.  A point of the first level is then re-anchored at
+ * itself twice (proximal iterations with the same factors), which removes
+ * most of the anchor's bias eps D (y - ya) from the state; these
+ * iterations are not counted by the step control.  For long steps on problems whose Jacobian is singular
+ * at the solutions in directions it is not singular in nearby (e.g. self-
+ * stresses of constraints that exist only on the solution set), where the
+ * plain Newton converges only linearly.  Default 0. */
+int cont_set_anchor_first(cont_solver *s, int on);
+/* the predictor of a step of length ds from x with tangent t: order 1 (the
+ * default) x + ds t; order 2 adds the curvature estimated from the change
+ * of the tangent over the last step (length h, tangent t_prev before it):
+ * x + ds t + ds^2 / 2 (t - t_prev) / h; its error is O(ds^3) instead of
+ * O(ds^2), so a longer step starts as close to the branch.  The first
+ * step after a start or a branch switch is of order 1, and so is every
+ * step once a residual floor was met (an anchored solve needed a level
+ * above 1: the tangents there are fixed only to the floor's accuracy). */
+int cont_set_predictor(cont_solver *s, int order);
 /* corrector: tolerance on max|fscale F| (default 1e-10), iterations
  * (default 10), strategy KIN_NONE (0, default) or KIN_LINESEARCH (1) */
 int cont_set_newton(cont_solver *s, double ftol, int max_iters, int strategy);

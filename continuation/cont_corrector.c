@@ -12,6 +12,7 @@
 #define REFINE_FLOOR 1e-7  /* accepted when they stall there (rounding) */
 #define ANCHOR_LEVELS 4    /* levels of the anchored solve (cont_anchor_fn) */
 #define ANCHOR_LAST 5      /* ... and the last one, tried after those failed */
+#define REANCHORS 2        /* proximal iterations after an anchored solve */
 
 int ci_kin_sys(N_Vector uv, N_Vector fv, void *data)
 {
@@ -283,6 +284,104 @@ int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
 static int refine_solve(cont_solver *s, const double *c, const double *rhs, double *x,
                         double tol);
 
+static int reuse_newton(cont_solver *s, double *x, const double *c, const double *xa,
+                        double sig, int maxit, int monotone, int have, int *nit, double *fnorm);
+
+/* The reusing corrector on the problem's anchored system (cont_anchor_fn)
+ * first, for cont_set_anchor_first: from the guess x, anchored at its
+ * multipliers, at level max(1, levels reached so far), then at the
+ * smaller weights of the next levels, each anchored at the best point so
+ * far, while a level converges but leaves the plain residual above ftol
+ * (as anchored_solve, with the engine's own Newton and factorisation
+ * instead of KINSOL's LU).  The result is kept only where the plain F
+ * meets ftol (and the anchored Newton's last step xtol), the acceptance
+ * test of every point.  Why (continuation/README.md, "Larger steps"): at
+ * the closed states of a sheet the fold rows carry self-stresses that
+ * exist only there, and the plain Newton converges only linearly from a
+ * long step (the residual is bilinear in the multiplier error along them
+ * and the position error); the anchor pins those multipliers.
+ * 0: x holds the point, the factors stay marked for ci_tangent_reuse;
+ * 1: x unchanged. */
+static int correct_reuse_anchored(cont_solver *s, double *x, const double *c, const double *xa,
+                                  double sig, int maxit, int *nit, double *fnorm)
+{
+    long n = s->n, m = s->m;
+    if (!s->anchor_first || !s->prob.anchor || s->corrector != CONT_CORRECTOR_REUSE) return 1;
+    double *u = malloc((size_t)m * sizeof(double)), *best = malloc((size_t)m * sizeof(double));
+    if (!u || !best) {
+        free(u);
+        free(best);
+        return 1;
+    }
+    memcpy(best, x, (size_t)m * sizeof(double));
+    long it0 = s->stp.newton_iters;
+    double fbest = INFINITY, fs = INFINITY;
+    int lev = s->reuse_level > 1 ? s->reuse_level : 1;
+    for (; lev <= ANCHOR_LAST; lev++) {
+        memcpy(u, best, (size_t)m * sizeof(double));
+        if (s->prob.anchor(u, u[n], lev, s->prob.user) != 0) break;
+        int k = 0, r = ci_correct_reuse(s, u, c, xa, sig, maxit, 0, &k, NULL);
+        s->prob.anchor(NULL, 0.0, 0, s->prob.user);
+        if (r != 0) break;   /* a smaller weight will not converge either */
+        if (ci_call_residual(s, u, u[n], s->w1) != 0) break;
+        fs = ci_fscaled_max(s, s->w1, n);
+        if (fs <= s->ftol) break;
+        if (!(fs < fbest)) break;
+        fbest = fs;
+        memcpy(best, u, (size_t)m * sizeof(double));
+    }
+    free(best);
+    /* the anchored point leaves eps D (lambda - lambda_a) on the constraint
+     * rows, a bias of the state within the tolerance; re-anchored at the
+     * point (proximal iterations, each an exact Newton iteration or two
+     * from the point with the same factors) it shrinks: on the Miura
+     * sheets two bring the fold angles to the plain corrector's points
+     * (continuation/README.md, "Larger steps").  Not counted by the step
+     * control (s->polish_iters), counted in the statistics.  Only at the
+     * first level: at a residual floor (smaller weights) the proximal
+     * iterations drift along the nearly dependent rows instead
+     * (docs/formulations.md, "Exact treatments tried"). */
+    int lv = lev <= ANCHOR_LAST ? lev : ANCHOR_LAST;
+    long ip = s->stp.newton_iters;
+    for (int j = 0; fs <= s->ftol && lv == 1 && j < REANCHORS; j++) {
+        memcpy(s->w1, u, (size_t)m * sizeof(double));
+        if (s->prob.anchor(u, u[n], lv, s->prob.user) != 0) break;
+        int r = reuse_newton(s, u, c, xa, sig, maxit, 0, 1, NULL, NULL);
+        s->prob.anchor(NULL, 0.0, 0, s->prob.user);
+        double f2 = INFINITY;
+        if (r == 0 && ci_call_residual(s, u, u[n], s->rw) == 0) f2 = ci_fscaled_max(s, s->rw, n);
+        if (!(f2 <= s->ftol)) {   /* keep the point before */
+            memcpy(u, s->w1, (size_t)m * sizeof(double));
+            if (ci_call_residual(s, u, u[n], s->rw) != 0) fs = INFINITY;
+            break;
+        }
+        fs = f2;
+    }
+    s->polish_iters = (int)(s->stp.newton_iters - ip);
+    if (nit) *nit = (int)(s->stp.newton_iters - it0);
+    if (!(fs <= s->ftol)) {
+        s->rgen = -1;
+        free(u);
+        return 1;
+    }
+    s->reuse_level = lev < ANCHOR_LEVELS ? lev : ANCHOR_LEVELS;
+    if (fnorm) *fnorm = s->last_fnorm;
+    memcpy(x, u, (size_t)m * sizeof(double));
+    free(u);
+    return 0;
+}
+
+int ci_correct_step(cont_solver *s, double *x, const double *c, const double *xa, double sig,
+                    int *nit, double *fnorm)
+{
+    s->polish_iters = 0;
+    if (s->strategy == KIN_NONE &&
+        (correct_reuse_anchored(s, x, c, xa, sig, s->max_newton, nit, fnorm) == 0 ||
+         ci_correct_reuse(s, x, c, xa, sig, s->max_newton, 0, nit, fnorm) == 0))
+        return 0;
+    return ci_correct(s, x, c, xa, sig, s->max_newton, s->strategy, nit, fnorm);
+}
+
 /* The corrector of CONT_CORRECTOR_REUSE (cont.h, ALGORITHM): Newton's
  * iteration on the corrector system with the engine's own bordered
  * factorisation (s->bt), one per iteration as with KINSOL, converged as
@@ -293,8 +392,20 @@ static int refine_solve(cont_solver *s, const double *c, const double *rhs, doub
  * gives up (the caller's line search takes over from the unchanged guess).
  * 0: converged, x holds the point; 1: not used (option) or not converged,
  * x unchanged (the caller runs ci_correct). */
+static int reuse_newton(cont_solver *s, double *x, const double *c, const double *xa,
+                        double sig, int maxit, int monotone, int have, int *nit, double *fnorm);
+
 int ci_correct_reuse(cont_solver *s, double *x, const double *c, const double *xa,
                      double sig, int maxit, int monotone, int *nit, double *fnorm)
+{
+    return reuse_newton(s, x, c, xa, sig, maxit, monotone, 0, nit, fnorm);
+}
+
+/* ci_correct_reuse; have: start with the factors in s->bt (made for the
+ * border c), refined against each iterate's matrix, instead of a new
+ * factorisation at the first iterate */
+static int reuse_newton(cont_solver *s, double *x, const double *c, const double *xa,
+                        double sig, int maxit, int monotone, int have, int *nit, double *fnorm)
 {
     long n = s->n, m = s->m;
     s->rgen = -1;
@@ -303,7 +414,6 @@ int ci_correct_reuse(cont_solver *s, double *x, const double *c, const double *x
     double *d = N_VGetArrayPointer(s->vx);
     memcpy(u, x, (size_t)m * sizeof(double));
     double dlast = HUGE_VAL, fsprev = HUGE_VAL;
-    int have = 0;
     for (int k = 0;; k++) {
         if (ci_call_residual(s, u, u[n], b) != 0) return 1;
         double g = -sig;

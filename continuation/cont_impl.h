@@ -84,6 +84,7 @@ struct cont_solver {
     int linsol;
     double *yscale_copy, *fscale_copy;
     double *wy;              /* norm weights of y (cont_set_weights), NULL: all 1 */
+    double arc2;             /* their factor in the arclength only (cont_set_arc_scale), a^2 */
     double *ulast;           /* with wy: the Newton iterate at the last Jacobian, m */
     char (*labels)[16];
 
@@ -141,6 +142,13 @@ struct cont_solver {
                               * failed (NAN: not known, or converged) */
     double anchor_fs;        /* lowest plain residual of this attempt's
                               * anchored solves (INFINITY: none) */
+    int anchor_first;        /* cont_set_anchor_first */
+    int predictor;           /* cont_set_predictor: 1 or 2 */
+    double *tprev, hprev;    /* the tangent of the point before the step base and
+                              * the arclength between them (m; hprev 0: none) */
+    int reuse_level;         /* its anchor level that last succeeded; 0: none */
+    int polish_iters;        /* of the last ci_correct_step: its re-anchoring
+                              * iterations (not a measure of the step's difficulty) */
     int anchor_level;        /* the anchor level (cont_anchor_fn) of the last
                               * anchored solve that met the tolerance in this
                               * run; 0: none yet.  Nonzero: the corrector tries
@@ -205,6 +213,10 @@ int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
                double sig, int maxit, int strategy, int *nit, double *fnorm);
 int ci_correct_reuse(cont_solver *s, double *x, const double *c, const double *xa,
                      double sig, int maxit, int monotone, int *nit, double *fnorm);
+/* one step's corrector: the anchored reusing one first (cont_set_anchor_first),
+ * the reusing one, then KINSOL's (ci_correct) */
+int ci_correct_step(cont_solver *s, double *x, const double *c, const double *xa, double sig,
+                    int *nit, double *fnorm);
 int ci_tangent_reuse(cont_solver *s, const double *c, int *sign, double *logdet);
 void ci_kin_err(int code, const char *module, const char *function,
                 char *msg, void *data);

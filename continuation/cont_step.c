@@ -94,6 +94,7 @@ static int finish_start(cont_solver *s, double t0, int nit, double fn)
     if (!q) return ci_fail(s, CONT_ENOMEM, "out of memory");
     s->state = ST_RUN;
     s->first_step = 1;
+    s->hprev = 0.0;
     s->ds = s->ds0;
     s->last.ds = 0.0;
     int r = deliver(s, q);
@@ -350,11 +351,17 @@ static int compute_step(cont_solver *s)
                         s->why[0] ? s->why : "no reason recorded", fl);
         }
         for (long i = 0; i < m; i++) x1->x[i] = b->x[i] + ds * b->t[i];
+        if (s->predictor == 2 && s->hprev > 0 && s->anchor_level == 0 && s->reuse_level <= 1) {
+            /* second order: the curvature from the tangents' change over
+             * the last step, x(s) = x + s t + s^2/2 (t - t_prev) / h_prev;
+             * not once a residual floor was met (an anchored level > 1):
+             * the states there are fixed only to the floor's accuracy, and
+             * so are the tangents' differences */
+            double q = 0.5 * ds * ds / s->hprev;
+            for (long i = 0; i < m; i++) x1->x[i] += q * (b->t[i] - s->tprev[i]);
+        }
         /* the engine's own Newton only without a line search */
-        r = s->strategy == KIN_NONE &&
-                    ci_correct_reuse(s, x1->x, c, b->x, ds, s->max_newton, 0, &nit, &fn) == 0
-                ? 0
-                : ci_correct(s, x1->x, c, b->x, ds, s->max_newton, s->strategy, &nit, &fn);
+        r = ci_correct_step(s, x1->x, c, b->x, ds, &nit, &fn);
         if (r == 0) {
             r = ci_eval_point(s, x1, c, +1, 0);
             if (r == CONT_EUSER) {
@@ -381,7 +388,7 @@ static int compute_step(cont_solver *s)
     x1->pub.ds = ds;
     x1->h = ds;
     s->last.ds = ds;
-    s->ds = nit <= s->fast_iters ? fmin(ds * s->grow, s->ds_max) : ds;
+    s->ds = nit - s->polish_iters <= s->fast_iters ? fmin(ds * s->grow, s->ds_max) : ds;
 
     cpt *xe = x1;
     int term = 0, reason = CONT_STOP_NONE;
@@ -441,6 +448,8 @@ static int compute_step(cont_solver *s)
     ci_set_label(xe, term ? CONT_PT_EP : CONT_PT_REGULAR, term ? "EP" : "");
     xe->terminal = term;
     xe->stop_reason = reason;
+    memcpy(s->tprev, b->t, (size_t)m * sizeof(double));
+    s->hprev = he;
     ci_pt_copy(s, b, xe);
     s->queue[(s->q0 + s->nq++) % 64] = xe;
     s->first_step = 0;

@@ -34,3 +34,9 @@ tests_test_cont_start_SOURCES = tests/test_cont_start.c tests/cont_test.h
 tests_test_cont_start_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_cont_start_LDFLAGS = -Wl,--wrap=dmumps_c
 tests_test_cont_start_LDADD = $(SF_TEST_LIBS)
+# options for long steps: the second-order predictor, the scaled arclength
+check_PROGRAMS += tests/test_cont_bigstep
+TESTS += tests/test_cont_bigstep
+tests_test_cont_bigstep_SOURCES = tests/test_cont_bigstep.c tests/cont_test.h
+tests_test_cont_bigstep_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_cont_bigstep_LDADD = $(SF_TEST_LIBS)

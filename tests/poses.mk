@@ -28,3 +28,6 @@ TESTS += tests/test_fold_wrench
 tests_test_fold_wrench_SOURCES = tests/test_fold_wrench.c
 tests_test_fold_wrench_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_fold_wrench_LDADD = $(SF_TEST_LIBS)
+# analysis.step_norm = "rms": as many points on a large sheet as on a small one
+TESTS += tests/test_step_norm.sh
+EXTRA_DIST += tests/test_step_norm.sh

@@ -206,6 +206,17 @@ int run_equilibrium(run_ctx *r)
                          "multipliers), %ld Jacobian nonzeros\n", eq->n, eq->nq, eq->ncon,
                          sf_equil_poses_nnz(eq));
     double lo = fmin(start, end), hi = fmax(start, end);
+    const char *step_norm;
+    if (sf_study_string(s, "analysis.step_norm", "sum", &step_norm, err)) return err->code;
+    if (strcmp(step_norm, "rms") == 0) {
+        /* steps in the RMS change of the fold coordinates (and p): the
+         * same number of points on a small and a large sheet; such steps
+         * need the anchored corrector (continuation/README.md, "Larger
+         * steps") */
+        cont_set_arc_scale(cs, 1.0 / sqrt((double)sc->model.nq));   /* the weighted ones */
+        cont_set_anchor_first(cs, 1);
+        cont_set_predictor(cs, 2);
+    }
     cont_set_step(cs, step, min_step, max_step);
     cont_set_prange(cs, lo, hi);
     cont_set_max_steps(cs, max_steps);

@@ -148,6 +148,7 @@ static const sf_study_key schema[] = {
     {"analysis.min_step",          NUM,   POS,            0, 0,       "1e-06",       NULL, "-", "smallest step"},
     {"analysis.max_step",          NUM,   POS,            0, 0,       "0.2",         NULL, "-", "largest step"},
     {"analysis.max_steps",         INT,   SF_KEY_GE,      1, 0,       "500",         NULL, "-", "most steps along a branch"},
+    {"analysis.step_norm",         STR,   0,              0, 0,       "sum",         "sum|rms", "-", "equilibrium paths: the norm of step, min_step and max_step: sum (the fold coordinates' changes squared, summed, and p's) or rms (their mean instead of their sum, so that a step means the same on a small and a large sheet; the corrector then solves its anchored system first; continuation/README.md)"},
     {"analysis.stability",         BOOL,  0,              0, 0,       "true",        NULL, "-", "compute stability along the path"},
     {"analysis.eigenvalues",       INT,   SF_KEY_GE,      0, 0,       "4",           NULL, "-", "lowest eigenvalues of the constrained Hessian reported (at most the number of generalised coordinates)"},
     {"analysis.convergence",       BOOL,  0,              0, 0,       "false",       NULL, "-", "rerun with K+1 shape modes per fold and report the differences (DIR/convergence.tsv)"},
