@@ -42,6 +42,11 @@ typedef struct sf_flatlimit_info {
     int eta_retry;      /* the first start fell back to the flat state and was made
                          * again with the penalty stages from eta = 1e-9 */
     double cand_energy[3];
+    /* the first start's last stage (eta = 1e-12) did not converge (scaled
+     * residual last_res after last_its iterations): the state of the stage
+     * before (eta = prev_eta) is taken */
+    int prev_stage, last_its;
+    double prev_eta, last_res;
 } sf_flatlimit_info;
 
 enum { SF_LIMIT_FIRST, SF_LIMIT_RIGID, SF_LIMIT_MIRROR };

@@ -500,20 +500,25 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
         const char *retry = lim && li.eta_retry ? "; penalty stages from eta = 1e-9 (from 1e-8 "
                                                   "the first start fell back to the flat state)"
                                                 : "";
+        char prevnote[300] = "";
+        if (lim && li.prev_stage)
+            snprintf(prevnote, sizeof prevnote, "; the first start's last penalty stage (eta = "
+                     "1e-12) did not converge (scaled residual %.3g after %d iterations): its "
+                     "state at eta = %g taken", li.last_res, li.last_its, li.prev_eta);
         if (lim && li.ties)
             snprintf(lnote, sizeof lnote, "the driving selects no single branch: the lowest "
                      "limit state found and its mirror in the mode amplitudes have equal energy "
                      "%.9g (a symmetric start; limit states found: %s; %d starts, %d Newton "
-                     "iterations, %d MUMPS factorisations%s); following the first of the two, the "
+                     "iterations, %d MUMPS factorisations%s%s); following the first of the two, the "
                      "one the declared imperfection -1e-2 of the mode amplitudes leads to (the "
                      "lowest of the states found, not a global guarantee)", li.energy, cands,
-                     li.starts, li.iterations, li.factorisations, retry);
+                     li.starts, li.iterations, li.factorisations, retry, prevnote);
         else if (lim)
             snprintf(lnote, sizeof lnote, "the driving's branch from the sparse limit problem "
                      "(%d starts, %d Newton iterations, %d MUMPS factorisations, %d saddles "
-                     "left; limit energy %.9g; limit states found: %s%s; the lowest of the states "
+                     "left; limit energy %.9g; limit states found: %s%s%s; the lowest of the states "
                      "found, not a global guarantee)", li.starts, li.iterations,
-                     li.factorisations, li.pushes, li.energy, cands, retry);
+                     li.factorisations, li.pushes, li.energy, cands, retry, prevnote);
         else
             snprintf(lnote, sizeof lnote, "the sparse limit problem failed (%.200s): the "
                      "driving's first-order response with a declared imperfection (every mode "
