@@ -43,14 +43,25 @@ void ci_why(cont_solver *s, const char *fmt, ...)
     va_end(ap);
 }
 
-double ci_dotw(const cont_solver *s, const double *a, const double *b)
+/* the y part of the arclength inner product, weighted, before arc2 */
+static double dot_y(const cont_solver *s, const double *a, const double *b)
 {
     double d = 0.0;
     if (s->wy)
         for (long i = 0; i < s->n; i++) d += s->wy[i] * a[i] * b[i];
     else
         for (long i = 0; i < s->n; i++) d += a[i] * b[i];
-    return s->arc2 * d + s->theta * s->theta * a[s->n] * b[s->n];
+    return d;
+}
+
+double ci_dotw(const cont_solver *s, const double *a, const double *b)
+{
+    return s->arc2 * dot_y(s, a, b) + s->theta * s->theta * a[s->n] * b[s->n];
+}
+
+double cont_arc_norm(const cont_solver *s, const double *dy, double dp)
+{
+    return sqrt(s->arc2 * dot_y(s, dy, dy) + s->theta * s->theta * dp * dp);
 }
 
 /* c = W t */

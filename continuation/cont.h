@@ -384,6 +384,9 @@ int cont_set_theta(cont_solver *s, double theta_p);
  * long as the tangent has a non-zero weighted part.  Branch directions are
  * then W-orthogonal in this norm. */
 int cont_set_weights(cont_solver *s, const double *w);
+/* |(dy, dp)|_W: the length of a change dy (n) of y and dp of p in the
+ * arclength norm (weights, cont_set_arc_scale, theta_p) */
+double cont_arc_norm(const cont_solver *s, const double *dy, double dp);
 /* the y part of the arclength norm scaled by a > 0 (default 1):
  * |(dy, dp)|^2 = a^2 sum_i w[i] dy_i^2 + theta^2 dp^2, in the steps, the
  * border row and the tangent's normalisation; the corrector's step test

@@ -214,7 +214,6 @@ int run_equilibrium(run_ctx *r)
          * need the anchored corrector (continuation/README.md, "Larger
          * steps") */
         cont_set_arc_scale(cs, 1.0 / sqrt((double)sc->model.nq));   /* the weighted ones */
-        r->s_fold_weight = 1.0 / sc->model.nq;   /* the same norm for the start's chord */
         cont_set_anchor_first(cs, 1);
         cont_set_predictor(cs, 2);
     }

@@ -37,8 +37,6 @@ typedef struct run_ctx {
     long npoints;
     int failed;
     double s_offset;      /* arclength before the engine's first point */
-    double s_fold_weight; /* weight of a fold coordinate's square in s: 1, or 1 / nq
-                           * with analysis.step_norm = "rms" (0 taken as 1) */
     cont_solver *solver;
     /* stability */
     int do_stab, nev;

@@ -181,10 +181,9 @@ int run_write_point(run_ctx *r, const cont_point *pt)
     double load = eq->param == SF_PARAM_LOAD ? pt->p : eq->load;
     if (r->s_offset < 0) {
         /* first point after a start off the flat state: the arclength
-         * from the flat state, in the norm of the path (q and p) */
-        double q2 = 0.0, w = r->s_fold_weight > 0 ? r->s_fold_weight : 1.0;
-        for (int j = 0; j < m->nq; j++) q2 += pt->y[j] * pt->y[j];   /* fold coordinates */
-        r->s_offset = sqrt(w * q2 + (pt->p - r->p_start) * (pt->p - r->p_start));
+         * from the flat state in the norm of the path (its fold
+         * coordinates are zero there, the other unknowns weigh nothing) */
+        r->s_offset = cont_arc_norm(r->solver, pt->y, pt->p - r->p_start);
     }
     sf_outbuf *b = &r->rows;
     double sarc = pt->s + r->s_offset;
