@@ -403,8 +403,11 @@ int cont_set_arc_scale(cont_solver *s, double a);
  * kept only if the plain F meets ftol, else the plain correctors follow
  * as without it.  A point of the first level is then re-anchored at
  * itself twice (proximal iterations with the same factors), which removes
- * most of the anchor's bias eps D (y - ya) from the state; these
- * iterations are not counted by the step control.  For long steps on problems whose Jacobian is singular
+ * most of the anchor's bias eps D (y - ya) from the state, also before the
+ * next level is tried where the plain F misses ftol there (a miss by the
+ * bias is not a floor: the smaller weights would stay for the rest of the
+ * run, and the second-order predictor off); these iterations are not
+ * counted by the step control.  For long steps on problems whose Jacobian is singular
  * at the solutions in directions it is not singular in nearby (e.g. self-
  * stresses of constraints that exist only on the solution set), where the
  * plain Newton converges only linearly.  Default 0. */

@@ -287,6 +287,40 @@ static int refine_solve(cont_solver *s, const double *c, const double *rhs, doub
 static int reuse_newton(cont_solver *s, double *x, const double *c, const double *xa,
                         double sig, int maxit, int monotone, int have, int *nit, double *fnorm);
 
+/* The anchored point of the first level u (plain residual fs) leaves
+ * eps D (lambda - lambda_a) on the constraint rows, a bias of the state
+ * within the tolerance, or just above it; re-anchored at the point
+ * (proximal iterations, each an exact Newton iteration or two from the
+ * point with the same factors) it shrinks: on the Miura sheets two bring
+ * the fold angles to the plain corrector's points (continuation/README.md,
+ * "Larger steps").  Up to REANCHORS of them; one is kept if its plain
+ * residual meets ftol or is below the one before, else u is left as it
+ * was.  Not counted by the step control (s->polish_iters), counted in the
+ * statistics.  Only at the first level: at a residual floor (smaller
+ * weights) the proximal iterations drift along the nearly dependent rows
+ * instead (docs/formulations.md, "Exact treatments tried").  Returns the
+ * plain residual at u (INFINITY if it cannot be evaluated). */
+static double reanchor(cont_solver *s, double *u, const double *c, const double *xa,
+                       double sig, int maxit, double fs)
+{
+    long n = s->n, m = s->m;
+    for (int j = 0; j < REANCHORS; j++) {
+        memcpy(s->w1, u, (size_t)m * sizeof(double));
+        if (s->prob.anchor(u, u[n], 1, s->prob.user) != 0) break;
+        int r = reuse_newton(s, u, c, xa, sig, maxit, 0, 1, NULL, NULL);
+        s->prob.anchor(NULL, 0.0, 0, s->prob.user);
+        double f2 = INFINITY;
+        if (r == 0 && ci_call_residual(s, u, u[n], s->rw) == 0) f2 = ci_fscaled_max(s, s->rw, n);
+        if (!(f2 <= s->ftol || f2 < fs)) {   /* keep the point before */
+            memcpy(u, s->w1, (size_t)m * sizeof(double));
+            if (ci_call_residual(s, u, u[n], s->rw) != 0) fs = INFINITY;
+            break;
+        }
+        fs = f2;
+    }
+    return fs;
+}
+
 /* The reusing corrector on the problem's anchored system (cont_anchor_fn)
  * first, for cont_set_anchor_first: from the guess x, anchored at its
  * multipliers, at level max(1, levels reached so far), then at the
@@ -314,7 +348,7 @@ static int correct_reuse_anchored(cont_solver *s, double *x, const double *c, co
         return 1;
     }
     memcpy(best, x, (size_t)m * sizeof(double));
-    long it0 = s->stp.newton_iters;
+    long it0 = s->stp.newton_iters, npx = 0;
     double fbest = INFINITY, fs = INFINITY;
     int lev = s->reuse_level > 1 ? s->reuse_level : 1;
     for (; lev <= ANCHOR_LAST; lev++) {
@@ -325,39 +359,23 @@ static int correct_reuse_anchored(cont_solver *s, double *x, const double *c, co
         if (r != 0) break;   /* a smaller weight will not converge either */
         if (ci_call_residual(s, u, u[n], s->w1) != 0) break;
         fs = ci_fscaled_max(s, s->w1, n);
+        if (lev == 1) {
+            /* the bias first: a plain residual just above ftol at the
+             * first level is the anchor's own, removed by the proximal
+             * iterations, not a floor that needs the smaller weights
+             * (and with them the first-order predictor) for the rest of
+             * the run */
+            long ip = s->stp.newton_iters;
+            fs = reanchor(s, u, c, xa, sig, maxit, fs);
+            npx += s->stp.newton_iters - ip;
+        }
         if (fs <= s->ftol) break;
         if (!(fs < fbest)) break;
         fbest = fs;
         memcpy(best, u, (size_t)m * sizeof(double));
     }
     free(best);
-    /* the anchored point leaves eps D (lambda - lambda_a) on the constraint
-     * rows, a bias of the state within the tolerance; re-anchored at the
-     * point (proximal iterations, each an exact Newton iteration or two
-     * from the point with the same factors) it shrinks: on the Miura
-     * sheets two bring the fold angles to the plain corrector's points
-     * (continuation/README.md, "Larger steps").  Not counted by the step
-     * control (s->polish_iters), counted in the statistics.  Only at the
-     * first level: at a residual floor (smaller weights) the proximal
-     * iterations drift along the nearly dependent rows instead
-     * (docs/formulations.md, "Exact treatments tried"). */
-    int lv = lev <= ANCHOR_LAST ? lev : ANCHOR_LAST;
-    long ip = s->stp.newton_iters;
-    for (int j = 0; fs <= s->ftol && lv == 1 && j < REANCHORS; j++) {
-        memcpy(s->w1, u, (size_t)m * sizeof(double));
-        if (s->prob.anchor(u, u[n], lv, s->prob.user) != 0) break;
-        int r = reuse_newton(s, u, c, xa, sig, maxit, 0, 1, NULL, NULL);
-        s->prob.anchor(NULL, 0.0, 0, s->prob.user);
-        double f2 = INFINITY;
-        if (r == 0 && ci_call_residual(s, u, u[n], s->rw) == 0) f2 = ci_fscaled_max(s, s->rw, n);
-        if (!(f2 <= s->ftol)) {   /* keep the point before */
-            memcpy(u, s->w1, (size_t)m * sizeof(double));
-            if (ci_call_residual(s, u, u[n], s->rw) != 0) fs = INFINITY;
-            break;
-        }
-        fs = f2;
-    }
-    s->polish_iters = (int)(s->stp.newton_iters - ip);
+    s->polish_iters = (int)npx;
     if (nit) *nit = (int)(s->stp.newton_iters - it0);
     if (!(fs <= s->ftol)) {
         s->rgen = -1;
