@@ -47,8 +47,13 @@
  * (analysis.flat_collapse): energy 0 there, above any state kept.  The
  * first start is left so too (at FIRST_COLLAPSE of its amplitude) and
  * then made again with every stage's eta ten times smaller (and so are
- * the later starts).  When the first start's last stage does not
- * converge, its state at the stage before is taken (lw_solve). */
+ * the later starts), and so is a first start whose first stage does not
+ * converge within MAXIT_FIRST1.  The first start's last stage is run
+ * only when its state may be followed: its energy at the stage before
+ * bounds the one at the last from below, and a rigid start lower than
+ * that bound is followed without it (first_finish).  When the first
+ * start's last stage does not converge, its state at the stage before is
+ * taken (lw_solve). */
 #include "flatlimit_sparse.h"
 
 #include <math.h>
@@ -82,6 +87,13 @@
  * (5x5 to 20x20 under actuation, 4x4 to 12x12 under load) its amplitude
  * does not fall at all after the first stage. */
 #define FIRST_COLLAPSE 0.75
+/* The first start's first stage (eta = 1e-8) at most this many Newton
+ * iterations, then made again from eta = 1e-9 as when it falls back.
+ * Where it converges to a state kept on the cone (12x12 to 20x20 Miura
+ * sheets under actuation) it takes 12 to 21; on the 24x24 and 31x31
+ * sheets it took 30 and 82 (2 s each at 31x31) to converge to the
+ * penalty-held state that then falls back at the next stage. */
+#define MAXIT_FIRST1 30
 
 typedef struct lim_ws {
     sf_equil *q;
@@ -105,8 +117,9 @@ typedef struct lim_ws {
     double collapse_frac; /* the fraction of collapse_ref in force: collapse, or for the
                            * first start FIRST_COLLAPSE (0 when collapse is 0) */
     double eta0;         /* the first stage's eta (ETA0, or ETA0 / 10 after a retry) */
-    int keep_prev;       /* the first start: when the last stage does not converge, the
-                          * state of the stage before is taken (lw_solve) */
+    int stage1_max;      /* the first stage's budget (MAXIT_FIRST1), 0: maxit */
+    int keep_prev;       /* the first start's last stage (lw_finish): when it does not
+                          * converge, the state of the stage before is taken (lw_solve) */
     sf_ldlt *f;
     const double *y0;
     double p0;
@@ -496,14 +509,15 @@ static int lw_energy(lim_ws *L, const double *x, double *E, sf_error *err)
     return SF_OK;
 }
 
-/* The stages in eta from the start in w; maxit Newton iterations per
- * stage at most. */
-static int lw_solve(lim_ws *L, double *w, double tol, int maxit, sf_flatlimit_info *info,
-                    sf_error *err)
+/* The penalty stages from .. to - 1 (of NSTAGES) from the state in w;
+ * maxit Newton iterations per stage at most. */
+static int lw_solve(lim_ws *L, double *w, int from, int to, double tol, int maxit,
+                    sf_flatlimit_info *info, sf_error *err)
 {
     double eta = L->eta0, res = INFINITY, prev_eta = 0.0;
     double *prev = NULL;
-    for (int st = 0; st < NSTAGES; st++, eta *= 0.1) {
+    for (int st = 0; st < from; st++, eta *= 0.1) prev_eta = eta;
+    for (int st = from; st < to; st++, eta *= 0.1) {
         int last = st == NSTAGES - 1;
         if (last && L->keep_prev && st > 0) {
             prev = malloc(sizeof(double) * 2 * (size_t)L->n);
@@ -511,11 +525,12 @@ static int lw_solve(lim_ws *L, double *w, double tol, int maxit, sf_flatlimit_in
             memcpy(prev, w, sizeof(double) * 2 * (size_t)L->n);
         }
         int its0 = info->iterations;
-        int rc = lw_stage(L, w, last ? REG_S : eta, last ? tol : fmax(tol, 1e-7), maxit,
+        int mi = st == 0 && L->stage1_max > 0 ? L->stage1_max : maxit;
+        int rc = lw_stage(L, w, last ? REG_S : eta, last ? tol : fmax(tol, 1e-7), mi,
                           &info->iterations, &info->pushes, &res, err);
         info->stages = st + 1;
         info->residual = res;
-        if (rc == 1 && prev) {
+        if (rc > 0 && prev) {
             /* The last stage (eta = 1e-12) does not converge: the 12x12
              * Miura sheet under gravity and a tip load, whose limit state
              * carries a large prestress nu on nearly dependent fold rows;
@@ -546,6 +561,12 @@ static int lw_solve(lim_ws *L, double *w, double tol, int maxit, sf_flatlimit_in
                            "at stage 1 after %d Newton iterations)", st + 1, NSTAGES, L->collapse_frac,
                            info->iterations);
         }
+        if (rc > 0 && mi < maxit) {
+            info->over_budget = 1;
+            return sf_fail(err, SF_ENUMERIC, "the sparse limit problem's first penalty stage does "
+                           "not converge within %d Newton iterations (scaled residual %.3g)", mi,
+                           res);
+        }
         if (rc > 0)
             return sf_fail(err, SF_ENUMERIC, "the sparse limit problem of the flat state does not "
                            "converge at penalty stage %d of %d (scaled residual %.3g after %d "
@@ -567,9 +588,10 @@ static void imperfect(const sf_model *m, double *x, double rel)
 
 /* One candidate: from the start (nstart values of w: x, mu, then z, nu;
  * the others 0) with the mode imperfection rel, at most maxit Newton
- * iterations per stage.  0 converged, > 0 not, < 0 error in err. */
+ * iterations per stage, the penalty stages before stage to.  0 converged,
+ * > 0 not, < 0 error in err. */
 static int candidate(lim_ws *L, const double *start, int nstart, double rel, int maxit, int extra,
-                     double *w, sf_flatlimit_info *info, sf_error *err)
+                     int to, double *w, sf_flatlimit_info *info, sf_error *err)
 {
     L->collapse_on = extra;
     L->collapse_ref = 0.0;
@@ -578,9 +600,40 @@ static int candidate(lim_ws *L, const double *start, int nstart, double rel, int
     memcpy(w, start, sizeof(double) * (size_t)nstart);
     imperfect(L->q->m, w, rel);
     memset(info, 0, sizeof *info);
-    int rc = lw_solve(L, w, 1e-10, maxit, info, err);
+    int rc = lw_solve(L, w, 0, to, 1e-10, maxit, info, err);
     if (rc && err->code != SF_ENUMERIC) return -1;
     return rc ? 1 : 0;
+}
+
+/* The first start's last penalty stage (eta = REG_S), from its state w
+ * at the stage before (candidate() with to = NSTAGES - 1), collapse_ref
+ * its fold amplitude after its first stage, into info (counts added);
+ * when it does not converge the state of the stage before is kept
+ * (lw_solve).  Run only when that state may be the one followed
+ * (sf_flat_limit_sparse): the last stage costs the most (MUMPS near a
+ * singular matrix). */
+static int first_finish(lim_ws *L, double *w, double collapse_ref, sf_flatlimit_info *info,
+                        sf_error *err)
+{
+    sf_flatlimit_info fi;
+    memset(&fi, 0, sizeof fi);
+    L->keep_prev = 1;
+    L->collapse_on = 1;
+    L->collapse_ref = collapse_ref;
+    L->collapse_frac = L->collapse;
+    int rc = lw_solve(L, w, NSTAGES - 1, NSTAGES, 1e-10, MAXIT, &fi, err);
+    L->keep_prev = 0;
+    info->iterations += fi.iterations;
+    info->pushes += fi.pushes;
+    if (rc) return err->code;
+    info->stages = NSTAGES;
+    info->residual = fi.residual;
+    info->energy = fi.energy;
+    info->prev_stage = fi.prev_stage;
+    info->prev_eta = fi.prev_eta;
+    info->last_res = fi.last_res;
+    info->last_its = fi.last_its;
+    return SF_OK;
 }
 
 /* The start of the limit problem from the rigid modes (2 n values of w),
@@ -632,7 +685,7 @@ static int extra_candidate(lim_ws *L, const double *st, double imperf, int maxit
 {
     sf_error ce;
     sf_error_clear(&ce);
-    int r = candidate(L, st, 2 * L->n, imperf, maxit, 1, wc, ci, &ce);
+    int r = candidate(L, st, 2 * L->n, imperf, maxit, 1, NSTAGES, wc, ci, &ce);
     info->starts++;
     info->iterations += ci->iterations;
     info->pushes += ci->pushes;
@@ -654,14 +707,15 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
 {
     lim_ws L;
     int n = q->n, rc = SF_OK;
+    size_t wsz = sizeof(double) * 2 * (size_t)n;
     const sf_model *m = q->m;
     memset(info, 0, sizeof *info);
     info->energy_alt = NAN;
     double *st = NULL, *wc = NULL;
     if ((rc = lw_init(&L, q, y0, p0, err))) goto out;
     if ((rc = sf_study_double(m->study, "analysis.flat_collapse", 0.25, &L.collapse, err))) goto out;
-    st = malloc(sizeof(double) * 2 * (size_t)n);
-    wc = malloc(sizeof(double) * 2 * (size_t)n);
+    st = malloc(wsz);
+    wc = malloc(wsz);
     if (!st || !wc) {
         rc = sf_fail(err, SF_ENOMEM, "out of memory");
         goto out;
@@ -670,10 +724,12 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
     sf_error ce;
     sf_error_clear(&ce);
     L.eta0 = ETA0;
-    L.keep_prev = 1;
     L.collapse_frac = L.collapse > 0 ? FIRST_COLLAPSE : 0.0;
-    int r = candidate(&L, u, n, imperf, MAXIT, 1, w, info, &ce);
-    if (r > 0 && info->collapsed) {
+    L.stage1_max = MAXIT_FIRST1;
+    /* the first start up to the stage before the last (first_finish) */
+    int r = candidate(&L, u, n, imperf, MAXIT, 1, NSTAGES - 1, w, info, &ce);
+    L.stage1_max = 0;
+    if (r > 0 && (info->collapsed || info->over_budget)) {
         /* the first start falling back to the flat state after its first
          * stage: a state the penalty eta = 1e-8 holds off the cone, which
          * collapses as eta falls (the 24x24 Miura sheet: fold amplitude
@@ -682,16 +738,17 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
          * of one in the first stage; the uniform Miura motion has 0.63).
          * Again from the first-order response with the stages from eta =
          * 1e-9, and the later starts with them too (24x24: converged at
-         * 0.63 in 29 iterations) */
-        int its0 = info->iterations;
+         * 0.63 in 29 iterations).  So too when the first stage does not
+         * converge within MAXIT_FIRST1. */
+        int its0 = info->iterations, why = info->collapsed ? 1 : 2;
         L.eta0 = 0.1 * ETA0;
         L.collapse_frac = L.collapse;
         sf_error_clear(&ce);
-        r = candidate(&L, u, n, imperf, MAXIT, 1, w, info, &ce);
+        r = candidate(&L, u, n, imperf, MAXIT, 1, NSTAGES - 1, w, info, &ce);
         info->iterations += its0;
-        info->eta_retry = 1;
+        info->eta_retry = why;
     }
-    L.keep_prev = 0;
+    double first_ref = L.collapse_ref;
     L.collapse_frac = L.collapse;
     info->starts = 1;
     if (r) {
@@ -705,10 +762,17 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
     info->ncand = 1;
     info->cand_kind[0] = SF_LIMIT_FIRST;
     info->cand_conv[0] = 1;
-    info->cand_energy[0] = info->energy;
+    int first_done = 0;
+    double e_first = info->energy;   /* at the stage before the last, until first_finish */
     /* the rigid-origami start (rigid_modes): another local minimum of the
      * limit problem where the first-order response leads to a state of
-     * higher energy (docs/flatstart.md, the 4x4 Miura sheet) */
+     * higher energy (docs/flatstart.md, the 4x4 Miura sheet).  It is
+     * compared with the first start's energy at the stage before the
+     * last: the penalty relaxes the second-order rows, so near the state
+     * that energy is at most the one at the last stage (the penalised
+     * minimum is at most the constrained one), and the last stage is
+     * only run (first_finish) when the rigid start is not lower than
+     * that bound by more than the tie tolerance */
     if (rigid_start(&L, u, w, st, wc)) {
         int k;
         r = extra_candidate(&L, st, imperf, MAXIT_RIGID, SF_LIMIT_RIGID, wc, info, &ci, &k, err);
@@ -718,14 +782,26 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
         }
         if (!r) {
             info->cand_energy[k] = ci.energy;
+            if (!(ci.energy < e_first - 1e-7 * fabs(e_first))) {
+                if ((rc = first_finish(&L, w, first_ref, info, err))) goto out;
+                e_first = info->energy;
+                first_done = 1;
+            }
             /* strictly lower (beyond the tie tolerance): followed */
-            if (ci.energy < info->energy - 1e-7 * fabs(info->energy)) {
+            if (ci.energy < e_first - 1e-7 * fabs(e_first)) {
                 info->energy = ci.energy;
                 info->chosen = k;
-                memcpy(w, wc, sizeof(double) * 2 * (size_t)n);
+                memcpy(w, wc, wsz);
             }
         }
     }
+    if (!first_done && info->chosen == 0) {
+        if ((rc = first_finish(&L, w, first_ref, info, err))) goto out;
+        e_first = info->energy;
+        first_done = 1;
+    }
+    info->cand_energy[0] = e_first;
+    info->first_bound = !first_done;
     if (mirror) {
         /* the mirror in the modes of the state chosen so far: its mode
          * amplitudes negated, every other unknown (poses, mu, z, nu) kept
@@ -735,7 +811,7 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
          * iterations on the 5x5 Miura sheet, 420 without convergence on
          * the 8x8 one) and ended elsewhere.  Hence a small budget: a
          * mirror that does not converge within it is not a tie. */
-        memcpy(st, w, sizeof(double) * 2 * (size_t)n);
+        memcpy(st, w, wsz);
         for (int i = 0; i < m->nfolds; i++)
             for (int k = 1; k < m->qn[i]; k++) st[m->qoff[i] + k] = -w[m->qoff[i] + k];
         int k;
@@ -759,16 +835,16 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
                     info->energy_alt = info->energy;
                     info->energy = ci.energy;
                     info->chosen = k;
-                    memcpy(w, wc, sizeof(double) * 2 * (size_t)n);
+                    memcpy(w, wc, wsz);
                 }
             }
         }
     }
 out:
     if (L.f) {
-        sf_ldlt_info fi;
-        sf_ldlt_get_info(L.f, &fi);
-        info->factorisations = fi.factorisations;
+        sf_ldlt_info fo;
+        sf_ldlt_get_info(L.f, &fo);
+        info->factorisations = fo.factorisations;
     }
     lw_free(&L);
     free(st);

@@ -39,9 +39,14 @@ typedef struct sf_flatlimit_info {
     int ncand;
     int cand_kind[3], cand_conv[3];   /* cand_conv -1: left, falling back to the flat state */
     int collapsed;      /* the last start was left falling back to the flat state */
-    int eta_retry;      /* the first start fell back to the flat state and was made
-                         * again with the penalty stages from eta = 1e-9 */
+    int eta_retry;      /* the first start was made again with the penalty stages from
+                         * eta = 1e-9: 1 it fell back to the flat state, 2 its first
+                         * stage did not converge within its budget */
+    int over_budget;    /* the first stage did not converge within its budget */
     double cand_energy[3];
+    int first_bound;    /* 1: the first start's last stage was not run (the rigid start
+                         * is lower than its energy at the stage before, a lower bound
+                         * of the energy at the last), cand_energy[0] is that bound */
     /* the first start's last stage (eta = 1e-12) did not converge (scaled
      * residual last_res after last_its iterations): the state of the stage
      * before (eta = prev_eta) is taken */
@@ -60,7 +65,9 @@ enum { SF_LIMIT_FIRST, SF_LIMIT_RIGID, SF_LIMIT_MIRROR };
  * then, on patterns with degree-4 interior vertices, the rigid-origami
  * motion of their closed-form modes (warm from the first solution, at
  * most 40 Newton iterations per stage), kept when its energy is lower by
- * more than 1e-7 relative; when mirror is set, the state kept with its
+ * more than 1e-7 relative (than the first start's energy at the penalty
+ * stage before the last, a lower bound of its limit energy, whose last
+ * stage is then not run: info->first_bound); when mirror is set, the state kept with its
  * mode amplitudes negated (its other unknowns as the first guess, at most
  * 30 iterations per stage): a distinct solution of equal energy (1e-7)
  * sets info->ties (the state kept before stays), a lower one replaces

@@ -484,7 +484,12 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
             for (int k = 0; k < li.ncand && o < sizeof cands; k++) {
                 const char *sep = k ? ", " : "", *nm = kind[li.cand_kind[k]];
                 const char *fol = k == li.chosen ? " (followed)" : "";
-                if (isfinite(li.cand_energy[k]))
+                /* the first start not carried to the last penalty stage:
+                 * its energy at the stage before, at most its limit energy */
+                if (k == 0 && li.first_bound && isfinite(li.cand_energy[k]))
+                    o += (size_t)snprintf(cands + o, sizeof cands - o, "%s%s >= %.9g", sep, nm,
+                                          li.cand_energy[k]);
+                else if (isfinite(li.cand_energy[k]))
                     o += (size_t)snprintf(cands + o, sizeof cands - o, "%s%s %.9g%s", sep, nm,
                                           li.cand_energy[k], fol);
                 else
@@ -496,10 +501,14 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
                                                                   "budget");
             }
         }
-        /* the first start fell back to the flat state at eta = 1e-8 */
-        const char *retry = lim && li.eta_retry ? "; penalty stages from eta = 1e-9 (from 1e-8 "
+        /* the first start fell back to the flat state at eta = 1e-8, or
+         * its first stage there did not converge within its budget */
+        const char *retry = !lim || !li.eta_retry ? ""
+                            : li.eta_retry == 1 ? "; penalty stages from eta = 1e-9 (from 1e-8 "
                                                   "the first start fell back to the flat state)"
-                                                : "";
+                                                : "; penalty stages from eta = 1e-9 (from 1e-8 "
+                                                  "the first start's first stage did not "
+                                                  "converge within its budget)";
         char prevnote[300] = "";
         if (lim && li.prev_stage)
             snprintf(prevnote, sizeof prevnote, "; the first start's last penalty stage (eta = "
