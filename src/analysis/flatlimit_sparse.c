@@ -47,8 +47,7 @@
  * (analysis.flat_collapse): energy 0 there, above any state kept.  The
  * first start is left so too (at FIRST_COLLAPSE of its amplitude) and
  * then made again with every stage's eta ten times smaller (and so are
- * the later starts), and so is a first start whose first stage does not
- * converge within MAXIT_FIRST1.  The first start's last stage is run
+ * the later starts).  The first start's last stage is run
  * only when its state may be followed: its energy at the stage before
  * bounds the one at the last from below, and a rigid start lower than
  * that bound is followed without it (first_finish).  When the first
@@ -87,13 +86,6 @@
  * (5x5 to 20x20 under actuation, 4x4 to 12x12 under load) its amplitude
  * does not fall at all after the first stage. */
 #define FIRST_COLLAPSE 0.75
-/* The first start's first stage (eta = 1e-8) at most this many Newton
- * iterations, then made again from eta = 1e-9 as when it falls back.
- * Where it converges to a state kept on the cone (12x12 to 20x20 Miura
- * sheets under actuation) it takes 12 to 21; on the 24x24 and 31x31
- * sheets it took 30 and 82 (2 s each at 31x31) to converge to the
- * penalty-held state that then falls back at the next stage. */
-#define MAXIT_FIRST1 30
 
 typedef struct lim_ws {
     sf_equil *q;
@@ -117,7 +109,6 @@ typedef struct lim_ws {
     double collapse_frac; /* the fraction of collapse_ref in force: collapse, or for the
                            * first start FIRST_COLLAPSE (0 when collapse is 0) */
     double eta0;         /* the first stage's eta (ETA0, or ETA0 / 10 after a retry) */
-    int stage1_max;      /* the first stage's budget (MAXIT_FIRST1), 0: maxit */
     int keep_prev;       /* the first start's last stage (lw_finish): when it does not
                           * converge, the state of the stage before is taken (lw_solve) */
     sf_ldlt *f;
@@ -525,8 +516,7 @@ static int lw_solve(lim_ws *L, double *w, int from, int to, double tol, int maxi
             memcpy(prev, w, sizeof(double) * 2 * (size_t)L->n);
         }
         int its0 = info->iterations;
-        int mi = st == 0 && L->stage1_max > 0 ? L->stage1_max : maxit;
-        int rc = lw_stage(L, w, last ? REG_S : eta, last ? tol : fmax(tol, 1e-7), mi,
+        int rc = lw_stage(L, w, last ? REG_S : eta, last ? tol : fmax(tol, 1e-7), maxit,
                           &info->iterations, &info->pushes, &res, err);
         info->stages = st + 1;
         info->residual = res;
@@ -560,12 +550,6 @@ static int lw_solve(lim_ws *L, double *w, int from, int to, double tol, int maxi
                            "state at penalty stage %d of %d (fold amplitude below %g of its value "
                            "at stage 1 after %d Newton iterations)", st + 1, NSTAGES, L->collapse_frac,
                            info->iterations);
-        }
-        if (rc > 0 && mi < maxit) {
-            info->over_budget = 1;
-            return sf_fail(err, SF_ENUMERIC, "the sparse limit problem's first penalty stage does "
-                           "not converge within %d Newton iterations (scaled residual %.3g)", mi,
-                           res);
         }
         if (rc > 0)
             return sf_fail(err, SF_ENUMERIC, "the sparse limit problem of the flat state does not "
@@ -725,11 +709,9 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
     sf_error_clear(&ce);
     L.eta0 = ETA0;
     L.collapse_frac = L.collapse > 0 ? FIRST_COLLAPSE : 0.0;
-    L.stage1_max = MAXIT_FIRST1;
     /* the first start up to the stage before the last (first_finish) */
     int r = candidate(&L, u, n, imperf, MAXIT, 1, NSTAGES - 1, w, info, &ce);
-    L.stage1_max = 0;
-    if (r > 0 && (info->collapsed || info->over_budget)) {
+    if (r > 0 && info->collapsed) {
         /* the first start falling back to the flat state after its first
          * stage: a state the penalty eta = 1e-8 holds off the cone, which
          * collapses as eta falls (the 24x24 Miura sheet: fold amplitude
@@ -738,15 +720,14 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
          * of one in the first stage; the uniform Miura motion has 0.63).
          * Again from the first-order response with the stages from eta =
          * 1e-9, and the later starts with them too (24x24: converged at
-         * 0.63 in 29 iterations).  So too when the first stage does not
-         * converge within MAXIT_FIRST1. */
-        int its0 = info->iterations, why = info->collapsed ? 1 : 2;
+         * 0.63 in 29 iterations) */
+        int its0 = info->iterations;
         L.eta0 = 0.1 * ETA0;
         L.collapse_frac = L.collapse;
         sf_error_clear(&ce);
         r = candidate(&L, u, n, imperf, MAXIT, 1, NSTAGES - 1, w, info, &ce);
         info->iterations += its0;
-        info->eta_retry = why;
+        info->eta_retry = 1;
     }
     double first_ref = L.collapse_ref;
     L.collapse_frac = L.collapse;

@@ -501,14 +501,10 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
                                                                   "budget");
             }
         }
-        /* the first start fell back to the flat state at eta = 1e-8, or
-         * its first stage there did not converge within its budget */
-        const char *retry = !lim || !li.eta_retry ? ""
-                            : li.eta_retry == 1 ? "; penalty stages from eta = 1e-9 (from 1e-8 "
+        /* the first start fell back to the flat state at eta = 1e-8 */
+        const char *retry = lim && li.eta_retry ? "; penalty stages from eta = 1e-9 (from 1e-8 "
                                                   "the first start fell back to the flat state)"
-                                                : "; penalty stages from eta = 1e-9 (from 1e-8 "
-                                                  "the first start's first stage did not "
-                                                  "converge within its budget)";
+                                                : "";
         char prevnote[300] = "";
         if (lim && li.prev_stage)
             snprintf(prevnote, sizeof prevnote, "; the first start's last penalty stage (eta = "
