@@ -47,12 +47,11 @@
  * (analysis.flat_collapse): energy 0 there, above any state kept.  The
  * first start is left so too (at FIRST_COLLAPSE of its amplitude) and
  * then made again with every stage's eta ten times smaller (and so are
- * the later starts).  The first start's last stage is run
- * only when its state may be followed: its energy at the stage before
- * bounds the one at the last from below, and a rigid start lower than
- * that bound is followed without it (first_finish).  When the first
- * start's last stage does not converge, its state at the stage before is
- * taken (lw_solve). */
+ * the later starts).  The first start's last stage is run only when its
+ * state may be followed: its energy at the stage before bounds the one at
+ * the last from below, and a rigid start lower than that bound is
+ * followed without it (first_finish).  When the first start's last stage
+ * does not converge, its state at the stage before is taken (lw_solve). */
 #include "flatlimit_sparse.h"
 
 #include <math.h>
@@ -109,7 +108,7 @@ typedef struct lim_ws {
     double collapse_frac; /* the fraction of collapse_ref in force: collapse, or for the
                            * first start FIRST_COLLAPSE (0 when collapse is 0) */
     double eta0;         /* the first stage's eta (ETA0, or ETA0 / 10 after a retry) */
-    int keep_prev;       /* the first start's last stage (lw_finish): when it does not
+    int keep_prev;       /* the first start's last stage (first_finish): when it does not
                           * converge, the state of the stage before is taken (lw_solve) */
     sf_ldlt *f;
     const double *y0;
@@ -592,8 +591,9 @@ static int candidate(lim_ws *L, const double *start, int nstart, double rel, int
 /* The first start's last penalty stage (eta = REG_S), from its state w
  * at the stage before (candidate() with to = NSTAGES - 1), collapse_ref
  * its fold amplitude after its first stage, into info (counts added);
- * when it does not converge the state of the stage before is kept
- * (lw_solve).  Run only when that state may be the one followed
+ * when it does not converge, or falls back towards the flat state
+ * (analysis.flat_collapse of collapse_ref), the state of the stage before
+ * is kept (lw_solve).  Run only when that state may be the one followed
  * (sf_flat_limit_sparse): the last stage costs the most (MUMPS near a
  * singular matrix). */
 static int first_finish(lim_ws *L, double *w, double collapse_ref, sf_flatlimit_info *info,

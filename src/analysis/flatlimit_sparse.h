@@ -65,8 +65,8 @@ enum { SF_LIMIT_FIRST, SF_LIMIT_RIGID, SF_LIMIT_MIRROR };
  * most 40 Newton iterations per stage), kept when its energy is lower by
  * more than 1e-7 relative (than the first start's energy at the penalty
  * stage before the last, a lower bound of its limit energy, whose last
- * stage is then not run: info->first_bound); when mirror is set, the state kept with its
- * mode amplitudes negated (its other unknowns as the first guess, at most
+ * stage is then not run: info->first_bound); when mirror is set, the
+ * state kept with its mode amplitudes negated (its other unknowns as the first guess, at most
  * 30 iterations per stage): a distinct solution of equal energy (1e-7)
  * sets info->ties (the state kept before stays), a lower one replaces
  * it.  SF_OK, SF_ENUMERIC (no convergence, with the numbers),
