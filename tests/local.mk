@@ -31,7 +31,7 @@ TESTS += tests/test_vtk.sh
 EXTRA_DIST += tests/test_vtk.sh
 include tests/equilibrium.mk
 include tests/poses.mk
-EXTRA_DIST += tests/sf_test.h tests/check_test.h
+EXTRA_DIST += tests/sf_test.h tests/check_test.h tests/tap.sh
 include tests/dynamics.mk
 include tests/paths.mk
 include tests/accuracy.mk

@@ -6,12 +6,7 @@
 # that finds no branch ends with a diagnosis, not a stall at ds_min.
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
-bin=${SF_BUILDDIR:-.}/src/smoothfold
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-i=0
-ok() { i=$((i + 1)); echo "ok $i - $1"; }
-nok() { i=$((i + 1)); echo "not ok $i - $1"; }
+. "$src/tests/tap.sh"
 # last row of branch.tsv: value of column $2 of file $1
 col() { awk -F'\t' -v c="$2" '/^#/ {next} !h {for (k = 1; k <= NF; k++) if ($k == c) n = k; h = 1; next} {v = $n} END {print v}' "$1"; }
 # a generated load study with every actuation group's rest angle 0: the

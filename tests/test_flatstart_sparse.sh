@@ -24,12 +24,7 @@
 # limit problems converge (test 10).
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
-bin=${SF_BUILDDIR:-.}/src/smoothfold
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-i=0
-ok() { i=$((i + 1)); echo "ok $i - $1"; }
-nok() { i=$((i + 1)); echo "not ok $i - $1"; }
+. "$src/tests/tap.sh"
 # the last row of branch.tsv, from column $2 on (1-based), tab separated
 last() { awk -F'\t' -v c="$2" '/^#/ || $1 == "point" {next} {r = $c; for (k = c + 1; k <= NF; k++) r = r "\t" $k} END {print r}' "$1"; }
 col() { awk -F'\t' -v c="$2" '/^#/ {next} !h {for (k = 1; k <= NF; k++) if ($k == c) n = k; h = 1; next} {v = $n} END {print v}' "$1"; }

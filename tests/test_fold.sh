@@ -6,12 +6,7 @@
 # "FILE: "), a non-zero status and nothing written; export writes FOLD for
 # every study.  Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
-bin=${SF_BUILDDIR:-.}/src/smoothfold
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-i=0
-ok() { i=$((i + 1)); echo "ok $i - $1"; }
-nok() { i=$((i + 1)); echo "not ok $i - $1"; }
+. "$src/tests/tap.sh"
 nbad=$(ls "$src"/tests/bad/fold_*.fold | wc -l)
 ngood=$(ls "$src"/tests/fold/*.fold | wc -l)
 echo "1..$((nbad + 2 * ngood + 5))"

@@ -18,12 +18,7 @@
 # failed, and a level stopped by KINSOL's iteration limit handed its point on.
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
-bin=${SF_BUILDDIR:-.}/src/smoothfold
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-i=0
-ok() { i=$((i + 1)); echo "ok $i - $1"; }
-nok() { i=$((i + 1)); echo "not ok $i - $1"; }
+. "$src/tests/tap.sh"
 check() { if [ "$1" = 1 ]; then ok "$2"; else nok "$2"; fi; }
 # the value of column $2 in the last row of branch.tsv $1
 col() { awk -F'\t' -v c="$2" '/^#/ {next} !h {for (k = 1; k <= NF; k++) if ($k == c) n = k; h = 1; next} {v = $n} END {print v}' "$1"; }

@@ -4,12 +4,7 @@
 # command writes today (docs/patterns.md); options and their errors.
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
-bin=${SF_BUILDDIR:-.}/src/smoothfold
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-i=0
-ok() { i=$((i + 1)); echo "ok $i - $1"; }
-nok() { i=$((i + 1)); echo "not ok $i - $1"; }
+. "$src/tests/tap.sh"
 echo "1..16"
 for p in miura yoshimura waterbomb; do
     if "$bin" pattern $p --cells=2x3 -o "$tmp/$p.cfg" 2>"$tmp/err" &&

@@ -32,12 +32,7 @@
 #     as the 24x24 sheet at 1e-10 did).
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
-bin=${SF_BUILDDIR:-.}/src/smoothfold
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-i=0
-ok() { i=$((i + 1)); echo "ok $i - $1"; }
-nok() { i=$((i + 1)); echo "not ok $i - $1"; }
+. "$src/tests/tap.sh"
 echo "1..6"
 run() {   # run M NORM [SETTING...]
     m=$1 norm=$2; shift 2
