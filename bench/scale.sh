@@ -6,10 +6,15 @@
 #   load       m load K       gravity and a tip load, p = load factor 0..1
 #   actuation  m actuation K  rest angles of both groups, p = 0..1 (rest
 #                             angles up to 2.6 rad = 149 degrees)
-# run with solver.formulation = "poses", exact closure, the flat start
-# START (default "direct"), the step norm STEP_NORM (analysis.step_norm,
-# default "sum"; "rms" takes steps of the same fold-angle change on every
-# sheet size, continuation/README.md), stability on (STAB=1) or off (STAB=0), to the
+# run with exact closure and the formulation FORMULATION, the flat start
+# START and the step norm STEP_NORM (analysis.step_norm; "rms" takes steps
+# of the same fold-angle change on every sheet size,
+# continuation/README.md).  None of the three given: all three "auto"
+# (docs/study-format.md, "Large sheets": poses, sparse, rms above 300
+# unknowns in fold coordinates, folds, limit, sum below, so the 2x2 sheet
+# runs in fold coordinates and its unknowns column is "-").  Any given:
+# FORMULATION defaults to "poses", START to "direct" ("limit" with folds),
+# STEP_NORM to "sum", as before "auto".  Stability on (STAB=1) or off (STAB=0), to the
 # end of the path (analysis.max_steps = STEPS, default 100000) within
 # TIMEOUT seconds (default 600).  Prints a markdown table: unknowns,
 # Jacobian nonzeros, points, p reached, Newton iterations of the accepted
@@ -25,8 +30,7 @@
 # the sizes m >= FITFROM (default 8) that reached the end of the path.
 # Environment: DRIVINGS (default "load actuation"), SIZES (default
 # "2 4 8 16 31"), K (fold modes, default 1), STAB, STEPS, TIMEOUT, START,
-# FITFROM, STEP_NORM, FORMULATION (default poses; "folds" uses the limit
-# start).
+# FITFROM, STEP_NORM, FORMULATION.
 src=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$src}
 bin=$build/src/smoothfold
@@ -34,14 +38,18 @@ drivings=${DRIVINGS:-load actuation}
 sizes=${SIZES:-2 4 8 16 31}
 steps=${STEPS:-100000}
 tmo=${TIMEOUT:-600}
-form=${FORMULATION:-poses}
+if [ -n "$FORMULATION$START$STEP_NORM" ]; then
+    form=${FORMULATION:-poses}
+    start=${START:-direct}
+    [ "$form" = folds ] && [ -z "$START" ] && start=limit
+    norm=${STEP_NORM:-sum}
+else
+    form=auto start=auto norm=auto
+fi
 K=${K:-1}
 fitfrom=${FITFROM:-8}
 stab=true
 [ "${STAB:-1}" = 0 ] && stab=false
-start=${START:-direct}
-norm=${STEP_NORM:-sum}
-[ "$form" = folds ] && [ -z "$START" ] && start=limit
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 echo "K = $K, stability $stab, flat start $start, formulation $form, step norm $norm, timeout $tmo s"

@@ -31,3 +31,7 @@ tests_test_fold_wrench_LDADD = $(SF_TEST_LIBS)
 # analysis.step_norm = "rms": as many points on a large sheet as on a small one
 TESTS += tests/test_step_norm.sh
 EXTRA_DIST += tests/test_step_norm.sh
+# the "auto" defaults of solver.formulation, analysis.flat_start and
+# analysis.step_norm: by size, the small-sheet choices unchanged
+TESTS += tests/test_auto_keys.sh
+EXTRA_DIST += tests/test_auto_keys.sh

@@ -264,7 +264,7 @@ int sf_cli_convergence(const sf_options *o, sf_error *err)
     int on = 0;
     sf_study_bool(&s, "analysis.convergence", 0, &on, NULL);
     int n = s.nfolds, rc = SF_OK;
-    const char **sets = on ? calloc((size_t)(o->nset + n + 4), sizeof *sets) : NULL;
+    const char **sets = on ? calloc((size_t)(o->nset + n + 7), sizeof *sets) : NULL;
     char **own = on ? calloc((size_t)n + 1, sizeof *own) : NULL;
     if (on && (!sets || !own)) rc = sf_fail(err, SF_ENOMEM, "out of memory");
     int ns = 0;
@@ -279,6 +279,19 @@ int sf_cli_convergence(const sf_options *o, sf_error *err)
         if (!own[i]) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); break; }
         snprintf(own[i], 64, "folds[%d].modes=%d", i, s.folds[i].modes + 1);
         sets[ns++] = own[i];
+    }
+    /* the keys that "auto" resolved by the size of the sheet (run_equilibrium.c):
+     * the K+1 sheet is larger, and is run with the same choices */
+    static const char *const pinned[3] = {"solver.formulation", "analysis.flat_start",
+                                          "analysis.step_norm"};
+    char pin[3][96];
+    for (int i = 0; !rc && on && i < 3; i++) {
+        const char *v;
+        if (sf_study_string(&s, pinned[i], "auto", &v, NULL) == SF_OK && strcmp(v, "auto") != 0 &&
+            strlen(v) < 32) {
+            snprintf(pin[i], sizeof pin[i], "%s=\"%s\"", pinned[i], v);
+            sets[ns++] = pin[i];
+        }
     }
     int kmin = 1 << 30, kmax = 0;
     for (int i = 0; i < n; i++) {

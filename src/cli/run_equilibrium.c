@@ -4,6 +4,7 @@
  * after the other and the branches met, and explains a start that fails. */
 #include <float.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -162,6 +163,72 @@ static int start_at_flat(run_ctx *r, double *y0, double start, double end, doubl
     return 0;
 }
 
+/* The defaults of solver.formulation, analysis.flat_start and
+ * analysis.step_norm, "auto" (docs/study-format.md, "Large sheets"): by
+ * the size of the problem in fold coordinates (eq->n, before any switch to
+ * poses).  Above solver.auto_unknowns, on a sheet with loops (exact
+ * closure, interior vertices), with none of the three keys set and no
+ * feature of the fold formulation only in use (the loop penalty; every
+ * branch at the flat state, analysis.branch_depth >= 1), they are
+ * "poses", "sparse", "rms"; otherwise "folds", "limit", "sum", the
+ * defaults before "auto", so that a study or command that sets any of
+ * them runs as before (and an explicit combination that does not work,
+ * such as "sparse" with "folds", gives the same error).  The choices
+ * are written back into the study (DIR/study.cfg records what was run; the
+ * K+1 run of analysis.convergence, a larger problem, keeps them), and a
+ * sheet above the threshold gets one header line saying what auto chose
+ * and why.  *form, *fs, *norm: string literals or the study's values. */
+static int choose_keys(run_ctx *r, const char **form, const char **fs, const char **norm)
+{
+    sf_study *s = &r->sc->study;
+    sf_error *err = r->err;
+    const sf_equil *eq = &r->eq;
+    int lim = 0, depth = 0;
+    if (sf_study_string(s, "solver.formulation", "auto", form, err) ||
+        sf_study_string(s, "analysis.flat_start", "auto", fs, err) ||
+        sf_study_string(s, "analysis.step_norm", "auto", norm, err) ||
+        sf_study_int(s, "solver.auto_unknowns", 0, &lim, err) ||
+        sf_study_int(s, "analysis.branch_depth", 0, &depth, err))
+        return err->code;
+    int af = strcmp(*form, "auto") == 0, as = strcmp(*fs, "auto") == 0, an = strcmp(*norm, "auto") == 0;
+    int large = eq->n > lim;
+    const char *why = !eq->exact ? "solver.constraints = \"penalty\" exists in the fold formulation only"
+                      : depth >= 1 && eq->nloop > 0
+                          ? "analysis.branch_depth >= 1 follows every branch at the flat state in the "
+                            "fold formulation only"
+                      : eq->nloop == 0 ? "the sheet has no interior vertex (no loop rows: the fold "
+                                         "formulation is the smaller one)"
+                      : !af ? "solver.formulation is set"
+                      : !as ? "analysis.flat_start is set"
+                      : !an ? "analysis.step_norm is set"
+                            : NULL;
+    int big = large && !why;
+    if (af) *form = big ? "poses" : "folds";
+    if (as) *fs = big ? "sparse" : "limit";
+    if (an) *norm = big ? "rms" : "sum";
+    if ((af && sf_study_set_string(s, "solver.formulation", *form, err)) ||
+        (as && sf_study_set_string(s, "analysis.flat_start", *fs, err)) ||
+        (an && sf_study_set_string(s, "analysis.step_norm", *norm, err)))
+        return err->code;
+    if (!large || !(af || as || an)) return SF_OK;
+    char line[1024], keys[256];
+    int o = 0;
+    keys[0] = '\0';
+    if (af) o += snprintf(keys + o, sizeof keys - (size_t)o, "solver.formulation = \"%s\"", *form);
+    if (as) o += snprintf(keys + o, sizeof keys - (size_t)o, "%sanalysis.flat_start = \"%s\"", o ? ", " : "", *fs);
+    if (an) snprintf(keys + o, sizeof keys - (size_t)o, "%sanalysis.step_norm = \"%s\"", o ? ", " : "", *norm);
+    if (big)
+        snprintf(line, sizeof line, "auto: %d unknowns in fold coordinates, above solver.auto_unknowns = %d: "
+                 "%s (setting any of the three keys keeps \"folds\", \"limit\", \"sum\" for the others)",
+                 eq->n, lim, keys);
+    else
+        snprintf(line, sizeof line, "auto: %d unknowns in fold coordinates, above solver.auto_unknowns = %d, "
+                 "but %s: %s as below it", eq->n, lim, why, keys);
+    sf_outbuf_printf(&r->header, "# %s\n", line);
+    if (!r->opt->quiet) fprintf(stderr, "%s\n", line);
+    return SF_OK;
+}
+
 int run_equilibrium(run_ctx *r)
 {
     sf_scene *sc = r->sc;
@@ -190,8 +257,8 @@ int run_equilibrium(run_ctx *r)
     sf_equil_use_sparse(eq, strcmp(linsol, "klu") == 0    ? CONT_LINSOL_KLU
                             : strcmp(linsol, "dense") == 0 ? 0
                                                            : CONT_LINSOL_MUMPS);
-    const char *formulation;
-    if (sf_study_string(s, "solver.formulation", "folds", &formulation, err)) return err->code;
+    const char *formulation, *flat_start, *step_norm;
+    if (choose_keys(r, &formulation, &flat_start, &step_norm)) return err->code;
     if (strcmp(formulation, "poses") == 0 && sf_equil_use_poses(eq, err)) return err->code;
     if (sf_scene_locate_probes(sc, &r->probes, err)) return err->code;
     int depth = 0;
@@ -206,8 +273,6 @@ int run_equilibrium(run_ctx *r)
                          "multipliers), %ld Jacobian nonzeros\n", eq->n, eq->nq, eq->ncon,
                          sf_equil_poses_nnz(eq));
     double lo = fmin(start, end), hi = fmax(start, end);
-    const char *step_norm;
-    if (sf_study_string(s, "analysis.step_norm", "sum", &step_norm, err)) return err->code;
     if (strcmp(step_norm, "rms") == 0) {
         /* steps in the RMS change of the fold coordinates (and p): the
          * same number of points on a small and a large sheet; such steps
@@ -274,10 +339,8 @@ int run_equilibrium(run_ctx *r)
             }
         if (rested && eq->pz) sf_equil_poses_lift(eq, y0);
     }
-    const char *flat_start;
     double flat_angle = 0.05;
-    if (sf_study_string(s, "analysis.flat_start", "limit", &flat_start, err) ||
-        sf_study_double(s, "analysis.flat_angle", 0.05, &flat_angle, err)) {
+    if (sf_study_double(s, "analysis.flat_angle", 0.05, &flat_angle, err)) {
         free(y0);
         return err->code;
     }

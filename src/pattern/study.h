@@ -107,6 +107,11 @@ int sf_study_int(const sf_study *s, const char *path, int def, int *out,
 /* *out points into the study (valid until sf_study_free) or is def. */
 int sf_study_string(const sf_study *s, const char *path, const char *def,
                     const char **out, sf_error *err);
+/* Replace the value of a string key that is present (a default the
+ * program resolved, such as "auto"): DIR/study.cfg then records it.  An
+ * absent key stays absent.  Pointers from sf_study_string to its old
+ * value become invalid. */
+int sf_study_set_string(sf_study *s, const char *path, const char *value, sf_error *err);
 int sf_study_bool(const sf_study *s, const char *path, int def, int *out,
                   sf_error *err);
 /* An array of numbers (ints accepted) into out[0..nmax-1]; *n = its length.

@@ -96,6 +96,18 @@ int sf_study_string(const sf_study *s, const char *path, const char *def,
     return SF_OK;
 }
 
+int sf_study_set_string(sf_study *s, const char *path, const char *value, sf_error *err)
+{
+    config_setting_t *st;
+    const sf_study_key *k;
+    int rc = lookup(s, path, "sf_study_set_string", &st, &k, err);
+    if (rc) return rc;
+    if (k->type != SF_KEY_STRING) return wrong_kind(err, "sf_study_set_string", path, k);
+    if (!st || st->type != CONFIG_TYPE_STRING) return SF_OK;
+    if (!config_setting_set_string(st, value)) return sf_fail(err, SF_ENOMEM, "out of memory");
+    return SF_OK;
+}
+
 int sf_study_bool(const sf_study *s, const char *path, int def, int *out,
                   sf_error *err)
 {

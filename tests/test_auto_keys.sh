@@ -1,0 +1,120 @@
+#!/bin/sh
+# test_auto_keys.sh - the defaults "auto" of solver.formulation,
+# analysis.flat_start and analysis.step_norm (src/cli/run_equilibrium.c,
+# choose_keys; docs/study-format.md, "Large sheets"): up to
+# solver.auto_unknowns unknowns in fold coordinates (default 300) the
+# choices before "auto" ("folds", "limit", "sum"), above it, with none of
+# the three keys set, "poses", "sparse", "rms", said in one header line.
+# On the 2x2 Miura-ori of bench/miura-study.sh (actuation, K = 1: 102
+# unknowns in fold coordinates):
+#  1: the default run is the explicit "folds"/"limit"/"sum" run, byte for
+#     byte in branch.tsv (no header line), and DIR/study.cfg records the
+#     three values;
+#  2: with solver.auto_unknowns = 100 (a sheet just above the threshold) the
+#     header states poses/sparse/rms and why, and branch.tsv is the
+#     explicit poses/sparse/rms run's but for that line;
+#  3: there, a key set keeps its value and the others the choices below the
+#     threshold (solver.formulation = "folds": the explicit folds run), and
+#     the header says so;
+#  4: the loop penalty (fold formulation only; 48 unknowns, no multipliers,
+#     above a threshold of 40) keeps "folds";
+#  5: flat_start = "sparse" alone is today's error (it needs poses);
+#  6: an unknown value of each key: one line naming the key and the
+#     accepted values, "auto" among them;
+#  7: the 4x4 sheet (518 unknowns) gets poses/sparse/rms at the default
+#     threshold (first point only);
+#  8: analysis.convergence: the K+1 run (126 unknowns, above a threshold
+#     of 110 that the K run, 102, is not) keeps the K run's choices.
+# Output is TAP.
+src=${SF_SRCDIR:-$(dirname "$0")/..}
+. "$src/tests/tap.sh"
+echo "1..8"
+check() { if [ "$1" = 1 ]; then ok "$2"; else nok "$2"; fi; }
+sh "$src/bench/miura-study.sh" 2 actuation 1 >"$tmp/m2.cfg"
+run() {   # run NAME [SETTING...]: exit status
+    name=$1; shift
+    "$bin" run "$tmp/m2.cfg" -q -o "$tmp/$name" --set analysis.stability=false --set output.shapes=0 "$@" \
+        >"$tmp/$name.out" 2>&1
+    echo $?
+}
+keys() {   # keys DIR: the three values recorded in DIR/study.cfg
+    awk '/^ *(formulation|flat_start|step_norm) = / {gsub(/[";]/, ""); v[$1] = $3}
+         END {print v["formulation"], v["flat_start"], v["step_norm"]}' "$1/study.cfg"
+}
+F='solver.formulation' S='analysis.flat_start' N='analysis.step_norm'
+folds="--set $F=\"folds\" --set $S=\"limit\" --set $N=\"sum\""
+poses="--set $F=\"poses\" --set $S=\"sparse\" --set $N=\"rms\""
+
+# 1: below the threshold
+a=$(run auto); e=$(run explicit $folds)
+k=$(keys "$tmp/auto")
+r=0
+[ "$a" = 0 ] && [ "$e" = 0 ] && cmp -s "$tmp/auto/branch.tsv" "$tmp/explicit/branch.tsv" &&
+    ! grep -q '^# auto' "$tmp/auto/branch.tsv" && [ "$k" = "folds limit sum" ] && r=1
+check $r "2x2 (102 unknowns): the default run is the folds/limit/sum run (exit $a, $e; study.cfg: $k)"
+
+# 2: just above a threshold of 100
+a=$(run big --set solver.auto_unknowns=100); e=$(run bigx $poses)
+k=$(keys "$tmp/big")
+line=$(grep '^# auto' "$tmp/big/branch.tsv")
+r=0
+[ "$a" = 0 ] && [ "$e" = 0 ] && [ "$k" = "poses sparse rms" ] &&
+    grep -v '^# auto' "$tmp/big/branch.tsv" | cmp -s - "$tmp/bigx/branch.tsv" &&
+    [ "$line" = '# auto: 102 unknowns in fold coordinates, above solver.auto_unknowns = 100: solver.formulation = "poses", analysis.flat_start = "sparse", analysis.step_norm = "rms" (setting any of the three keys keeps "folds", "limit", "sum" for the others)' ] && r=1
+check $r "above the threshold: poses/sparse/rms, the explicit run's branch.tsv (exit $a, $e; study.cfg: $k)"
+[ $r = 1 ] || echo "# $line"
+
+# 3: a key set wins, the others keep the small-sheet choices
+a=$(run set --set solver.auto_unknowns=100 --set "$F=\"folds\"")
+k=$(keys "$tmp/set")
+line=$(grep '^# auto' "$tmp/set/branch.tsv")
+r=0
+[ "$a" = 0 ] && [ "$k" = "folds limit sum" ] &&
+    grep -v '^# auto' "$tmp/set/branch.tsv" | cmp -s - "$tmp/explicit/branch.tsv" &&
+    [ "$line" = '# auto: 102 unknowns in fold coordinates, above solver.auto_unknowns = 100, but solver.formulation is set: analysis.flat_start = "limit", analysis.step_norm = "sum" as below it' ] && r=1
+check $r "above the threshold, solver.formulation = \"folds\" set: folds/limit/sum, the explicit run (exit $a; study.cfg: $k)"
+[ $r = 1 ] || echo "# $line"
+
+# 4: the loop penalty exists in the fold formulation only
+a=$(run pen --set solver.auto_unknowns=40 --set 'solver.constraints="penalty"' --set analysis.max_steps=3)
+k=$(keys "$tmp/pen")
+r=0
+[ "$k" = "folds limit sum" ] && grep -q '^# auto: .*, but solver.constraints = "penalty" exists in the fold formulation only: solver.formulation = "folds"' "$tmp/pen/branch.tsv" && r=1
+check $r "above the threshold with the loop penalty: folds (exit $a; study.cfg: $k)"
+
+# 5: an explicit combination that does not work keeps its error
+a=$(run sp --set "$S=\"sparse\"")
+r=0
+[ "$a" != 0 ] && grep -q 'analysis.flat_start = "sparse" needs solver.formulation = "poses"' "$tmp/sp.out" && r=1
+check $r "flat_start = \"sparse\" alone: the error of the fold formulation (exit $a)"
+
+# 6: unknown values
+r=1
+for c in "$F|x|must be \"auto\", \"folds\" or \"poses\" (got \"x\")" \
+         "$S|x|must be \"auto\", \"limit\", \"direct\" or \"sparse\" (got \"x\")" \
+         "$N|x|must be \"auto\", \"sum\" or \"rms\" (got \"x\")"; do
+    key=${c%%|*}; rest=${c#*|}; val=${rest%%|*}; msg=${rest#*|}
+    a=$(run bad --set "$key=\"$val\"")
+    if [ "$a" = 0 ] || [ "$(wc -l <"$tmp/bad.out")" != 1 ] || ! grep -qF "$key: $msg" "$tmp/bad.out"; then
+        r=0; sed 's/^/# /' "$tmp/bad.out"
+    fi
+done
+check $r "an unknown value of each key: one line naming it and the accepted values, auto among them"
+
+# 7: the default threshold, on the 4x4 sheet (first point only)
+sh "$src/bench/miura-study.sh" 4 actuation 1 >"$tmp/m4.cfg"
+"$bin" run "$tmp/m4.cfg" -q -o "$tmp/m4" --set analysis.stability=false --set output.shapes=0 \
+    --set analysis.max_steps=1 >"$tmp/m4.out" 2>&1
+k=$(keys "$tmp/m4")
+r=0
+[ "$k" = "poses sparse rms" ] && grep -q '^# auto: 518 unknowns in fold coordinates, above solver.auto_unknowns = 300: ' "$tmp/m4/branch.tsv" &&
+    grep -q '^# formulation: poses, ' "$tmp/m4/branch.tsv" && r=1
+check $r "4x4 (518 unknowns) at the default threshold 300: poses/sparse/rms (study.cfg: $k)"
+
+# 8: the K+1 run of analysis.convergence keeps the choices of the K run
+a=$(run conv --set solver.auto_unknowns=110 --set analysis.convergence=true)
+k=$(keys "$tmp/conv/kplus1")
+r=0
+[ "$a" = 0 ] && [ "$k" = "folds limit sum" ] && [ -s "$tmp/conv/convergence.tsv" ] &&
+    ! grep -q '^# auto' "$tmp/conv/kplus1/branch.tsv" && r=1
+check $r "convergence: the K+1 run (126 unknowns, threshold 110) keeps folds/limit/sum (exit $a; study.cfg: $k)"
