@@ -96,6 +96,7 @@
  * (24x24 Miura under actuation, a penalty-held state too), 15 under
  * gravity and a tip load (8x8), at most 9 elsewhere. */
 #define FIRST_STALL 30
+#define PIVOT_U 1e-3     /* MUMPS's CNTL(1) for the limit matrix (lw_init) */
 
 typedef struct lim_ws {
     sf_equil *q;
@@ -271,6 +272,10 @@ static int lw_init(lim_ws *w, sf_equil *q, const double *y0, double p0, sf_error
         return sf_fail(err, SF_ENOMEM, "out of memory");
     for (int i = 0; i < n; i++) w->d[i] = sqrt(q->fscale[i] / q->yscale[i]);
     if (sf_ldlt_create(&w->f, 0.0, err)) return err->code;
+    /* MUMPS's pivot threshold 1e-3 instead of its 0.01: the (z, nu) block's
+     * diagonals (1e-10, -eta) fail the default test, and about half of
+     * its pivots were delayed (docs/flatstart.md, "The pivot threshold") */
+    sf_ldlt_set_pivot_threshold(w->f, PIVOT_U);
     return SF_OK;
 }
 

@@ -165,6 +165,11 @@ int sf_ldlt_factor(sf_ldlt *f, int n, long nnz, const int *row, const int *col,
     return SF_OK;
 }
 
+void sf_ldlt_set_pivot_threshold(sf_ldlt *f, double u)
+{
+    f->id.CNTL(1) = u;
+}
+
 void sf_ldlt_forget_analysis(sf_ldlt *f)
 {
     f->analysed = 0;

@@ -43,6 +43,9 @@ int sf_ldlt_solve(sf_ldlt *f, double *b, sf_error *err);
 /* The next sf_ldlt_factor analyses its matrix afresh even when the pattern is
  * unchanged (MUMPS's analysis depends on the values it was made with). */
 void sf_ldlt_forget_analysis(sf_ldlt *f);
+/* MUMPS's relative pivot threshold CNTL(1) for the next factorisations
+ * (its default 0.01 for a symmetric indefinite matrix). */
+void sf_ldlt_set_pivot_threshold(sf_ldlt *f, double u);
 
 typedef struct sf_ldlt_info {
     int n;
