@@ -28,7 +28,7 @@ src=${SF_SRCDIR:-$(dirname "$0")/..}
 # the last row of branch.tsv, from column $2 on (1-based), tab separated
 last() { awk -F'\t' -v c="$2" '/^#/ || $1 == "point" {next} {r = $c; for (k = c + 1; k <= NF; k++) r = r "\t" $k} END {print r}' "$1"; }
 col() { awk -F'\t' -v c="$2" '/^#/ {next} !h {for (k = 1; k <= NF; k++) if ($k == c) n = k; h = 1; next} {v = $n} END {print v}' "$1"; }
-echo "1..10"
+echo "1..11"
 
 # 1-2: sparse start (poses) against the dense cone start (folds)
 compare() {   # m, end
@@ -271,4 +271,29 @@ if [ "$st10" = 7 ] && [ "$st3" = 7 ] && [ "$st1" = 7 ] &&
     ok "miura 3x3 under ten times the load: starts from the limit problem's stage before the last; its first point equals those under three times and once the load at the same load to $d of the largest value (fold angles, probe)"
 else
     nok "miura 3x3 load x10: exits $st10 $st3 $st1, p $p10 $p3 $p1, difference '$d'"; sed 's/^/#   /' "$tmp/x10.out" | cut -c1-400 | head -3
+fi
+
+# 11: the stall rule of the first start's first penalty stage
+# (analysis.flat_stall, docs/flatstart.md "A first stage that makes no
+# progress"): it acts where that stage wanders (the 31x31 sheet, too large
+# for a test), so here it is forced on the 4x4 sheet of test 7 with a
+# budget of 2 iterations without progress.  The start is then made again
+# from eta = 1e-9, says so, and follows the same state as test 7 (the
+# limit energy to its 9 digits, the first point to 1e-9 relative).
+"$bin" run "$tmp/m4.cfg" -q -o "$tmp/s4s" --set 'solver.formulation="poses"' --set 'analysis.flat_start="sparse"' \
+    --set analysis.max_steps=1 --set analysis.stability=false --set analysis.flat_stall=2 >"$tmp/s4s.out" 2>&1
+h1=$(grep '^# flat start (sparse)' "$tmp/s4/branch.tsv"); h2=$(grep '^# flat start (sparse)' "$tmp/s4s/branch.tsv")
+e1=$(echo "$h1" | sed -n 's/.*rigid vertex modes \(-[0-9.]*\) (followed).*/\1/p')
+e2=$(echo "$h2" | sed -n 's/.*rigid vertex modes \(-[0-9.]*\) (followed).*/\1/p')
+r1=$(first "$tmp/s4/branch.tsv"); r2=$(first "$tmp/s4s/branch.tsv")
+d=$(printf '%s\n%s\n' "$r1" "$r2" | awk -F'\t' 'NR == 1 {n = NF; for (k = 1; k <= NF; k++) a[k] = $k; next}
+    NF != n || n < 20 {print "rows"; exit}
+    {for (k = 1; k <= NF; k++) if (a[k] ~ /^-?[0-9]/) {e = a[k] - $k; if (e < 0) e = -e; m = a[k] < 0 ? -a[k] : a[k];
+     if (m > mx) mx = m; if (e > d) d = e}; printf "%.3g\n", d / mx}')
+if echo "$h2" | grep -q 'penalty stages from eta = 1e-9 (from 1e-8 the first start.s first stage made no progress)' &&
+   ! echo "$h1" | grep -q 'penalty stages from eta = 1e-9' &&
+   [ -n "$e1" ] && [ "$e1" = "$e2" ] && awk -v d="$d" 'BEGIN {exit !(d != "" && d != "rows" && d + 0 <= 1e-9)}'; then
+    ok "miura 4x4 with analysis.flat_stall = 2: the first start made again from eta = 1e-9, the same state followed (limit energy $e2, first point to $d)"
+else
+    nok "miura 4x4 flat_stall = 2: energies '$e1' '$e2', first rows '$d'"; echo "$h2" | cut -c1-400 | sed 's/^/#   /'
 fi

@@ -39,8 +39,9 @@ typedef struct sf_flatlimit_info {
     int ncand;
     int cand_kind[3], cand_conv[3];   /* cand_conv -1: left, falling back to the flat state */
     int collapsed;      /* the last start was left falling back to the flat state */
-    int eta_retry;      /* the first start fell back to the flat state and was made
-                         * again with the penalty stages from eta = 1e-9 */
+    int eta_retry;      /* the first start was made again with the penalty stages from
+                         * eta = 1e-9: 1 it fell back to the flat state, 2 its first
+                         * stage made no progress (FIRST_STALL iterations) */
     double cand_energy[3];
     int first_bound;    /* 1: the first start's last stage was not run (the rigid start
                          * is lower than its energy at the stage before, a lower bound

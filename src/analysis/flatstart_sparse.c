@@ -501,10 +501,13 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
                                                                   "budget");
             }
         }
-        /* the first start fell back to the flat state at eta = 1e-8 */
-        const char *retry = lim && li.eta_retry ? "; penalty stages from eta = 1e-9 (from 1e-8 "
-                                                  "the first start fell back to the flat state)"
-                                                : "";
+        /* the first start at eta = 1e-8 fell back to the flat state, or
+         * its first stage made no progress (flatlimit_sparse.c) */
+        const char *retry = !lim || !li.eta_retry ? ""
+                            : li.eta_retry == 2 ? "; penalty stages from eta = 1e-9 (from 1e-8 "
+                                                  "the first start's first stage made no progress)"
+                                                : "; penalty stages from eta = 1e-9 (from 1e-8 "
+                                                  "the first start fell back to the flat state)";
         char prevnote[300] = "";
         if (lim && li.prev_stage)
             snprintf(prevnote, sizeof prevnote, "; the first start's last penalty stage (eta = "
