@@ -7,6 +7,9 @@
 #include <string.h>
 
 #include <dmumps_c.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <nvector/nvector_serial.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
@@ -19,6 +22,23 @@
 #define RELAX0 100     /* ICNTL(14) to start with, percent (50 gives INFO -9 on the
                           * pose KKT matrices of the Miura sheets) */
 #define RELAX_MAX 1600
+
+/* MUMPS's workspace kept on the heap instead of a new mapping per
+ * factorisation (the same setting as src/analysis/ldlt.c, which says why;
+ * whichever wrapper is created first sets it for the process). */
+#ifdef __GLIBC__
+#define HEAP_KEEP (1 << 30)
+static void keep_heap(void)
+{
+    static int done;
+    if (done) return;
+    done = 1;
+    mallopt(M_MMAP_THRESHOLD, HEAP_KEEP);
+    mallopt(M_TRIM_THRESHOLD, HEAP_KEEP);
+}
+#else
+static void keep_heap(void) {}
+#endif
 
 typedef struct mumps_content {
     DMUMPS_STRUC_C id;
@@ -191,6 +211,7 @@ static SUNLinearSolver create(N_Vector y, SUNMatrix A, SUNContext ctx, int sym)
         SM_ROWS_S(A) != SM_COLUMNS_S(A))
         return NULL;
     if (y && N_VGetLength(y) != SM_ROWS_S(A)) return NULL;
+    keep_heap();
     SUNLinearSolver S = SUNLinSolNewEmpty(ctx);
     if (!S) return NULL;
     S->ops->gettype = ls_type;

@@ -12,7 +12,11 @@
  * after delayed pivots), the factorisation is retried with twice the
  * relaxation ICNTL(14), up to 1600 %.  A singular matrix fails setup with
  * SUNLS_LUFACT_FAIL; the MUMPS code is available from SUNLinSolLastFlag.
- * The solver never prints. */
+ * The solver never prints.  Creating one (or an ldlt.h solver) sets
+ * glibc's mmap and trim thresholds to 1 GB for the process, so that
+ * MUMPS's workspace is reused on the heap instead of mapped and faulted
+ * in at every factorisation (continuation/README.md, "Where the path's
+ * time goes with stability"). */
 #ifndef CONT_MUMPS_H
 #define CONT_MUMPS_H
 

@@ -23,7 +23,11 @@
  *    hold it where the KKT pivots are at round-off;
  *  - every attempt failing: stability unknown at a stable point (but the
  *    Morse index known), unstable by the inertia at an unstable one, and
- *    sf_sstab_eval still returns SF_OK.
+ *    sf_sstab_eval still returns SF_OK;
+ *  - with glibc, a MUMPS wrapper keeps large blocks on the heap for the
+ *    process (ldlt.c): once the heap has grown, a 64 MB block freed and
+ *    allocated again is not faulted in again (by default it is a new
+ *    mapping each time).
  * Runs in well under a second. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -31,6 +35,7 @@
 #include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/resource.h>
 
 #include <cmocka.h>
 
@@ -67,6 +72,46 @@ static void chain_csc(int n, double s, int *cp, int *ri, double *v)
         }
     }
     cp[n] = t;
+}
+
+/* Minor page faults of touching a fresh malloc'ed block of `bytes` after
+ * one of the same size was touched and freed. */
+static long refault(size_t bytes)
+{
+    char *p = malloc(bytes);
+    assert_non_null(p);
+    memset(p, 1, bytes);
+    free(p);
+    struct rusage r0, r1;
+    getrusage(RUSAGE_SELF, &r0);
+    p = malloc(bytes);
+    assert_non_null(p);
+    memset(p, 2, bytes);
+    getrusage(RUSAGE_SELF, &r1);
+    free(p);
+    return r1.ru_minflt - r0.ru_minflt;
+}
+
+/* First in the list: the process has no wrapper yet. */
+static void test_ldlt_heap_kept(void **state)
+{
+    (void)state;
+#ifdef __GLIBC__
+    size_t bytes = (size_t)64 << 20; /* above glibc's largest default mmap threshold, 32 MB */
+    long pages = (long)(bytes / 4096), before = refault(bytes);
+    sf_ldlt *f;
+    sf_error err;
+    sf_error_clear(&err);
+    assert_int_equal(sf_ldlt_create(&f, 0, &err), SF_OK);
+    refault(bytes); /* the heap grows once */
+    long after = refault(bytes);
+    printf("# 64 MB block again: %ld minor faults before the wrapper, %ld after (%ld pages)\n",
+           before, after, pages);
+    CHECK_LE((double)after, 0.1 * (double)pages, "faults of a reused 64 MB block");
+    sf_ldlt_free(f);
+#else
+    skip();
+#endif
 }
 
 static void test_ldlt_chain(void **state)
@@ -732,6 +777,7 @@ static void test_sstab_bad_input(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_ldlt_heap_kept),
         cmocka_unit_test(test_ldlt_chain),
         cmocka_unit_test(test_ldlt_null_pivot),
         cmocka_unit_test(test_sstab_closed_form),

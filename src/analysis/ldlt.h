@@ -19,6 +19,11 @@
  * solution with the corresponding unknowns set to zero (MUMPS fixes those
  * pivots to a large value), a consistent system's solution when the
  * null pivots belong to redundant rows.
+ *
+ * Creating one sets glibc's mmap and trim thresholds to 1 GB for the
+ * process (as cont_mumps.h does): MUMPS's workspace, allocated at every
+ * factorisation, is then reused on the heap instead of mapped and
+ * faulted in each time.
  */
 #ifndef SF_LDLT_H
 #define SF_LDLT_H
