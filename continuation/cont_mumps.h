@@ -45,6 +45,11 @@ void cont_mumps_new_pattern(SUNLinearSolver S);
  * Returns 0, or -1 without factors. */
 int cont_mumps_det(SUNLinearSolver S, int *sign, double *logabs);
 
+/* glibc's mmap and trim thresholds set to 1 GB for the process (once;
+ * nothing elsewhere): MUMPS's workspace is then reused on the heap.
+ * Called by the two solvers above and by src/analysis/ldlt.c. */
+void cont_mumps_keep_heap(void);
+
 /* Counters since creation: analyses, factorisations, workspace relaxations;
  * MUMPS's own timings are not used (none of these may be NULL). */
 void cont_mumps_counts(SUNLinearSolver S, long *analyses, long *factors, long *relax);

@@ -6,9 +6,8 @@
 #include <string.h>
 
 #include <dmumps_c.h>
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
+
+#include "cont_mumps.h"
 
 /* MUMPS's Fortran communicator value meaning MPI_COMM_WORLD (the
  * sequential build ignores it) */
@@ -17,29 +16,6 @@
 #define CNTL(I) cntl[(I) - 1]
 #define INFOG(I) infog[(I) - 1]
 #define RINFOG(I) rinfog[(I) - 1]
-
-/* MUMPS allocates its workspace afresh at each factorisation (tens to
- * hundreds of MB on the large sheets).  glibc serves blocks above its mmap
- * threshold (at most 32 MB by default) with a new mapping each time,
- * which the kernel then faults in page by page, and returns freed memory
- * at the top of the heap to the system: on the 16x16 Miura actuation run
- * that was 2.8 s of system time in 34.5 s.  Kept on the heap (both
- * thresholds at 1 GB, set once for the process), the same blocks are
- * reused without faults.  The arithmetic is untouched; peak memory grows
- * by a few percent. */
-#ifdef __GLIBC__
-#define HEAP_KEEP (1 << 30)
-static void keep_heap(void)
-{
-    static int done;
-    if (done) return;
-    done = 1;
-    mallopt(M_MMAP_THRESHOLD, HEAP_KEEP);
-    mallopt(M_TRIM_THRESHOLD, HEAP_KEEP);
-}
-#else
-static void keep_heap(void) {}
-#endif
 
 struct sf_ldlt {
     DMUMPS_STRUC_C id;
@@ -65,7 +41,7 @@ static void mumps_quiet(DMUMPS_STRUC_C *id)
 int sf_ldlt_create(sf_ldlt **out, double null_tol, sf_error *err)
 {
     *out = NULL;
-    keep_heap();
+    cont_mumps_keep_heap();   /* MUMPS's workspace kept on the heap */
     sf_ldlt *f = calloc(1, sizeof *f);
     if (!f) return sf_fail(err, SF_ENOMEM, "out of memory");
     f->null_tol = null_tol > 0 ? null_tol : 1e-12;

@@ -21,7 +21,7 @@
  * null pivots belong to redundant rows.
  *
  * Creating one sets glibc's mmap and trim thresholds to 1 GB for the
- * process (as cont_mumps.h does): MUMPS's workspace, allocated at every
+ * process (cont_mumps_keep_heap): MUMPS's workspace, allocated at every
  * factorisation, is then reused on the heap instead of mapped and
  * faulted in each time.
  */
