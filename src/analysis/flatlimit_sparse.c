@@ -92,9 +92,11 @@
  * it wanders (scaled residual 100 to 4000 from its start at 13.5, fold
  * amplitude 0.29) for 82 iterations towards the penalty-held state that
  * then falls back at eta = 1e-9 (above).  Where the first stage leads to
- * a state that is kept, the longest such run measured is 20 iterations
- * (24x24 Miura under actuation, a penalty-held state too), 15 under
- * gravity and a tip load (8x8), at most 9 elsewhere. */
+ * a state that is kept, or one left at the next stage as before (24x24),
+ * the longest such run measured is 19 iterations (24x24 Miura under
+ * actuation), 16 under gravity and a tip load (5x5), 14 at 8x8 under
+ * load, at most 12 elsewhere (docs/flatstart.md, "A first stage that
+ * makes no progress"). */
 #define FIRST_STALL 30
 #define PIVOT_U 1e-3     /* MUMPS's CNTL(1) for the limit matrix (lw_init) */
 
@@ -274,7 +276,8 @@ static int lw_init(lim_ws *w, sf_equil *q, const double *y0, double p0, sf_error
     if (sf_ldlt_create(&w->f, 0.0, err)) return err->code;
     /* MUMPS's pivot threshold 1e-3 instead of its 0.01: the (z, nu) block's
      * diagonals (1e-10, -eta) fail the default test, and about half of
-     * its pivots were delayed (docs/flatstart.md, "The pivot threshold") */
+     * its pivots were delayed (docs/flatstart.md, "The pivot threshold of
+     * the limit matrix") */
     sf_ldlt_set_pivot_threshold(w->f, PIVOT_U);
     return SF_OK;
 }
@@ -763,13 +766,14 @@ int sf_flat_limit_sparse(sf_equil *q, const double *y0, double p0, const double 
          * Again from the first-order response with the stages from eta =
          * 1e-9, and the later starts with them too (24x24: converged at
          * 0.63 in 29 iterations) */
-        int its0 = info->iterations;
+        int its0 = info->iterations, stalled = L.stalled;
+        L.stalled = 0;   /* a later fall-back is reported as such */
         L.eta0 = 0.1 * ETA0;
         L.collapse_frac = L.collapse;
         sf_error_clear(&ce);
         r = candidate(&L, u, n, imperf, MAXIT, 1, NSTAGES - 1, w, info, &ce);
         info->iterations += its0;
-        info->eta_retry = L.stalled ? 2 : 1;
+        info->eta_retry = stalled ? 2 : 1;
     }
     double first_ref = L.collapse_ref;
     L.collapse_frac = L.collapse;
