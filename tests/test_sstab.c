@@ -25,7 +25,7 @@
  *    Morse index known), unstable by the inertia at an unstable one, and
  *    sf_sstab_eval still returns SF_OK;
  *  - with glibc, a MUMPS wrapper keeps large blocks on the heap for the
- *    process (ldlt.c): once the heap has grown, a 64 MB block freed and
+ *    process (cont_mumps_keep_heap): once the heap has grown, a 64 MB block freed and
  *    allocated again is not faulted in again (by default it is a new
  *    mapping each time).
  * Runs in well under a second. */
