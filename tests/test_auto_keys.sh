@@ -25,11 +25,16 @@
 #  7: the 4x4 sheet (518 unknowns) gets poses/sparse/rms at the default
 #     threshold (first point only);
 #  8: analysis.convergence: the K+1 run (126 unknowns, above a threshold
-#     of 110 that the K run, 102, is not) keeps the K run's choices.
+#     of 110 that the K run, 102, is not) keeps the K run's choices;
+#  9: the 2x2 sheet under gravity and a tip load (bench/miura-study.sh 2
+#     load 1): the fold formulation's flat start (the choice below the
+#     threshold) finds no first point, and its message names the pose
+#     formulation's sparse start first; with those two keys the path runs
+#     to p = 1 (exit 0).
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 . "$src/tests/tap.sh"
-echo "1..8"
+echo "1..9"
 check() { if [ "$1" = 1 ]; then ok "$2"; else nok "$2"; fi; }
 sh "$src/bench/miura-study.sh" 2 actuation 1 >"$tmp/m2.cfg"
 run() {   # run NAME [SETTING...]: exit status
@@ -120,3 +125,17 @@ r=0
 [ "$a" = 0 ] && [ "$k" = "folds limit sum" ] && [ -s "$tmp/conv/convergence.tsv" ] &&
     ! grep -q '^# auto' "$tmp/conv/kplus1/branch.tsv" && r=1
 check $r "convergence: the K+1 run (126 unknowns, threshold 110) keeps folds/limit/sum (exit $a; study.cfg: $k)"
+
+# 9: a failed start of the fold formulation names the sparse pose start,
+# which runs the sheet
+sh "$src/bench/miura-study.sh" 2 load 1 >"$tmp/m2l.cfg"
+"$bin" run "$tmp/m2l.cfg" -q -o "$tmp/m2l" >"$tmp/m2l.out" 2>&1
+a=$?
+"$bin" run "$tmp/m2l.cfg" -q -o "$tmp/m2lp" --set solver.formulation='"poses"' \
+    --set analysis.flat_start='"sparse"' >"$tmp/m2lp.out" 2>&1
+b=$?
+pend=$(grep -v '^#' "$tmp/m2lp/branch.tsv" 2>/dev/null | tail -n 1 | cut -f 4)
+r=0
+[ "$a" = 3 ] && grep -q 'off the flat state in the fold formulation (another start to try: solver.formulation = "poses", analysis.flat_start = "sparse")' "$tmp/m2l.out" &&
+    [ "$b" = 0 ] && [ "$pend" = 1 ] && r=1
+check $r "2x2 under gravity and a tip load: the fold start fails naming the sparse pose start (exit $a), which runs to p = $pend (exit $b)"
