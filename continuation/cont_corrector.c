@@ -29,6 +29,7 @@ int ci_kin_sys(N_Vector uv, N_Vector fv, void *data)
     for (long i = 0; i <= n; i++) g += s->bc[i] * (u[i] - s->bxa[i]);
     f[n] = g;
     s->kin_fs = ci_fscaled_max(s, f, n);
+    if (s->att_track) s->att_fsmin = fmin(s->att_fsmin, s->kin_fs);
     return 0;
 }
 
@@ -181,6 +182,8 @@ int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
                double sig, int maxit, int strategy, int *nit, double *fnorm)
 {
     long m = s->m;
+    int track = s->att_track;   /* a step attempt's plain Newton (ci_correct_step) */
+    s->att_track = 0;
     s->rgen = -1;
     memcpy(s->bc, c, (size_t)m * sizeof(double));
     memcpy(s->bxa, xa, (size_t)m * sizeof(double));
@@ -208,7 +211,9 @@ int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
         memcpy(N_VGetArrayPointer(s->u), x, (size_t)m * sizeof(double));
         KINSetNumMaxIters(s->kmem, maxit);
     }
+    s->att_track = track;
     int flag = KINSol(s->kmem, s->u, strategy, s->uscale, s->fscale);
+    s->att_track = 0;
     long nni = 0;
     KINGetNumNonlinSolvIters(s->kmem, &nni);
     s->stp.newton_iters += nni;
@@ -393,11 +398,19 @@ int ci_correct_step(cont_solver *s, double *x, const double *c, const double *xa
                     int *nit, double *fnorm)
 {
     s->polish_iters = 0;
-    if (s->strategy == KIN_NONE &&
-        (correct_reuse_anchored(s, x, c, xa, sig, s->max_newton, nit, fnorm) == 0 ||
-         ci_correct_reuse(s, x, c, xa, sig, s->max_newton, 0, nit, fnorm) == 0))
-        return 0;
-    return ci_correct(s, x, c, xa, sig, s->max_newton, s->strategy, nit, fnorm);
+    s->att_fsmin = INFINITY;
+    s->fail_fs = NAN;   /* not a stale value where a later check rejects the point */
+    if (s->strategy == KIN_NONE) {
+        if (correct_reuse_anchored(s, x, c, xa, sig, s->max_newton, nit, fnorm) == 0) return 0;
+        s->att_track = 1;
+        int r = ci_correct_reuse(s, x, c, xa, sig, s->max_newton, 0, nit, fnorm);
+        s->att_track = 0;
+        if (r == 0) return 0;
+    }
+    s->att_track = 1;   /* ci_correct's plain KINSOL attempt, not its anchored retry */
+    int r = ci_correct(s, x, c, xa, sig, s->max_newton, s->strategy, nit, fnorm);
+    s->att_track = 0;
+    return r;
 }
 
 /* The corrector of CONT_CORRECTOR_REUSE (cont.h, ALGORITHM): Newton's
@@ -438,6 +451,7 @@ static int reuse_newton(cont_solver *s, double *x, const double *c, const double
         for (long i = 0; i <= n; i++) g += c[i] * (u[i] - xa[i]);
         b[n] = g;
         double fs = ci_fscaled_max(s, b, m);
+        if (s->att_track) s->att_fsmin = fmin(s->att_fsmin, fs);
         if (monotone && fs > s->ftol && !(fs < fsprev)) return 1;
         fsprev = fs;
         if (k > 0 && fs <= s->ftol && dlast <= s->xtol * (1.0 + step_norm2(s, u))) {

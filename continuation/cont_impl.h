@@ -142,6 +142,10 @@ struct cont_solver {
                               * failed (NAN: not known, or converged) */
     double anchor_fs;        /* lowest plain residual of this attempt's
                               * anchored solves (INFINITY: none) */
+    double att_fsmin;        /* lowest scaled residual of the plain Newton
+                              * iterates of the last step attempt, its
+                              * predictor included (INFINITY: none) */
+    int att_track;           /* a plain Newton of a step attempt is running */
     int anchor_first;        /* cont_set_anchor_first */
     int predictor;           /* cont_set_predictor: 1 or 2 */
     double *tprev, hprev;    /* the tangent of the point before the step base and

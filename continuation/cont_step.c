@@ -318,6 +318,49 @@ static void floor_note(const cont_solver *s, const floor_watch *fw, double tp, c
              s->ftol, tp, fw->hi);
 }
 
+/* A divergence: the failed corrector attempts of a step, from some step
+ * length down to ds_min, each came within DIVERGE_NEAR times the Newton
+ * tolerance (the predictor or a plain Newton iterate) and then ended more
+ * than DIVERGE_GROWTH times higher, above the floor's range.  Newton then
+ * moves away from the branch however short the step is: the equations
+ * are nearly singular at this point in a way the corrector's regularised
+ * step amplifies (continuation/README.md, "A corrector that diverges next
+ * to the tolerance"). */
+#define DIVERGE_NEAR 1e4
+#define DIVERGE_GROWTH 100.0
+typedef struct { int n; double lo, hi, end, ds; } diverge_watch;
+
+static void diverge_count(const cont_solver *s, diverge_watch *dw, double ds)
+{
+    double lo = s->att_fsmin, f = s->fail_fs;
+    if (!(lo <= DIVERGE_NEAR * s->ftol) || !(f > DIVERGE_GROWTH * lo) ||
+        !(f > FLOOR_FACTOR * s->ftol)) {
+        *dw = (diverge_watch){ 0, INFINITY, 0.0, INFINITY, 0.0 };
+        return;
+    }
+    if (dw->n++ == 0) dw->ds = ds;
+    dw->lo = fmin(dw->lo, lo);
+    dw->hi = fmax(dw->hi, lo);
+    dw->end = fmin(dw->end, f);
+}
+
+/* The diagnosis of a stop at ds_min where the trailing attempts diverged
+ * (else ""). */
+static void diverge_note(const cont_solver *s, const diverge_watch *dw, double tp, char *buf,
+                         size_t len)
+{
+    buf[0] = '\0';
+    if (dw->n < FLOOR_MIN_ATTEMPTS) return;
+    snprintf(buf, len, "; diagnosis: the last %d attempts (steps %.3g down to ds_min) each "
+             "came to a scaled residual of %.3g to %.3g (tolerance %.3g), then diverged to "
+             "%.3g or more: the Newton step moves away from the branch here (nearly "
+             "singular equations whose regularised step amplifies an error, or a Jacobian "
+             "that does not match the residual), not a turning point (dp/ds = %.3g); the "
+             "points so far meet the tolerance; no setting is known to get past such a point "
+             "(continuation/README.md, \"A corrector that diverges next to the tolerance\")",
+             dw->n, dw->ds, dw->lo, dw->hi, s->ftol, dw->end, tp);
+}
+
 /* Compute one step from s->base and queue the resulting points. */
 static int compute_step(cont_solver *s)
 {
@@ -337,13 +380,15 @@ static int compute_step(cont_solver *s)
     int nit = 0, r;
     double fn = NAN;
     floor_watch fw = { 0, INFINITY, 0.0, 0.0 };
+    diverge_watch dw = { 0, INFINITY, 0.0, INFINITY, 0.0 };
     for (;;) {
         if (ds < s->ds_min) {
             free(c);
             ci_pt_free(x1);
             s->stop_reason = CONT_STOP_DSMIN;
-            char fl[512];
+            char fl[640];
             floor_note(s, &fw, b->t[n], fl, sizeof fl);
+            if (!fl[0]) diverge_note(s, &dw, b->t[n], fl, sizeof fl);
             return ci_fail(s, CONT_FAIL, "continuation stopped at step %ld: the step size "
                         "%.3g fell below ds_min = %.3g at p = %.12g (last accepted point, "
                         "s = %.6g, residual norm %.3g); last attempt: %s%s",
@@ -380,6 +425,7 @@ static int compute_step(cont_solver *s)
         }
         if (r == 0) break;
         floor_count(s, &fw, ds);
+        diverge_count(s, &dw, ds);
         s->stp.retries++;
         ds *= s->shrink;
     }

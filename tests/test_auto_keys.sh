@@ -18,7 +18,8 @@
 #     the header says so;
 #  4: the loop penalty (fold formulation only; 48 unknowns, no multipliers,
 #     above a threshold of 40) keeps "folds";
-#  5: flat_start = "sparse" alone is today's error (it needs poses);
+#  5: flat_start = "sparse" alone is an input error (it needs poses), one
+#     line naming the formulation in use, given before any point;
 #  6: an unknown value of each key: one line naming the key and the
 #     accepted values, "auto" among them;
 #  7: the 4x4 sheet (518 unknowns) gets poses/sparse/rms at the default
@@ -85,8 +86,9 @@ check $r "above the threshold with the loop penalty: folds (exit $a; study.cfg: 
 # 5: an explicit combination that does not work keeps its error
 a=$(run sp --set "$S=\"sparse\"")
 r=0
-[ "$a" != 0 ] && grep -q 'analysis.flat_start = "sparse" needs solver.formulation = "poses"' "$tmp/sp.out" && r=1
-check $r "flat_start = \"sparse\" alone: the error of the fold formulation (exit $a)"
+[ "$a" = 1 ] && grep -q 'analysis.flat_start = "sparse" needs solver.formulation = "poses" (it is "folds")' "$tmp/sp.out" &&
+    [ "$(wc -l <"$tmp/sp.out")" = 1 ] && [ ! -e "$tmp/sp/branch.tsv" ] && r=1
+check $r "flat_start = \"sparse\" alone: one line, before any point, naming the formulation in use (exit $a)"
 
 # 6: unknown values
 r=1

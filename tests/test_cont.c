@@ -512,6 +512,7 @@ static void test_failure_diagnosis(void **state)
                    "message does not name the step size, ds_min and p: %s", m);
         CHECK_TRUE(strstr(m, mode == 0 ? "non-finite" : "returned -3"),
                    "message does not give the cause: %s", m);
+        CHECK_TRUE(!strstr(m, "diverged"), "a NaN failure called a divergence: %s", m);
         long np = cont_num_points(s);
         CHECK_TRUE(np > 2, "only %ld points", np);
         for (long i = 0; i < np; i++) {
@@ -525,6 +526,73 @@ static void test_failure_diagnosis(void **state)
         CHECK_CLOSE(cont_point_at(s, np - 1)->p, 0.7, 1e-4);
         /* cont_step after a failure keeps failing, no crash */
         CHECK_TRUE(cont_step(s) == CONT_FAIL, "cont_step after failure");
+        cont_free(s);
+    }
+}
+
+/* ------------------------------------------------------------------ */
+/* divergence: F = (y1^3 + y1 - p, y2 - y1^2 / 10) with dF2/dy2 given as  */
+/* -1/10 instead of 1, so that Newton multiplies the error of y2 by 11   */
+/* at every iteration: every attempt starts near the branch (its error   */
+/* in y2 is the predictor's, ds^2 / 20) and diverges; the stop at ds_min */
+/* must say so, and the NaN failure above must not                      */
+
+static int div_res(const double *y, double p, double *F, void *u)
+{
+    (void)u;
+    F[0] = y[0] * y[0] * y[0] + y[0] - p;
+    F[1] = y[1] - 0.1 * y[0] * y[0];
+    return 0;
+}
+
+static int div_jac(const double *y, double p, SUNMatrix J, double *Fp, void *u)
+{
+    (void)p; (void)u;
+    SM_ELEMENT_D(J, 0, 0) = 3 * y[0] * y[0] + 1.0;
+    SM_ELEMENT_D(J, 0, 1) = 0.0;
+    SM_ELEMENT_D(J, 1, 0) = -0.2 * y[0];
+    SM_ELEMENT_D(J, 1, 1) = -0.1;   /* wrong: 1 */
+    Fp[0] = -1.0;
+    Fp[1] = 0.0;
+    return 0;
+}
+
+static void test_divergence_diagnosis(void **state)
+{
+    (void)state;
+    for (int corrector = 0; corrector < 2; corrector++) {
+        cont_problem prob = {.n = 2, .residual = div_res, .jacobian = div_jac,
+                             .jac_matrix = CONT_MATRIX_DENSE};
+        cont_solver *s = make(&prob, CONT_LINSOL_DENSE);
+        CHECK_OK(cont_set_corrector(s, corrector ? CONT_CORRECTOR_REUSE : CONT_CORRECTOR_NEWTON), s);
+        CHECK_OK(cont_set_newton(s, 1e-10, 12, KIN_NONE), s);
+        CHECK_OK(cont_set_step(s, 0.1, 1e-6, 0.2), s);
+        CHECK_OK(cont_set_prange(s, -1.0, 1.0), s);
+        double y0[2] = {0.0, 0.0};
+        CHECK_OK(cont_start(s, y0, 0.0, +1), s);
+        int st = cont_run(s);
+        CHECK_TRUE(st == CONT_FAIL, "corrector %d: status %d, expected CONT_FAIL", corrector, st);
+        CHECK_TRUE(cont_stop_reason(s) == CONT_STOP_DSMIN, "stop reason %s",
+                   cont_stop_name(cont_stop_reason(s)));
+        const char *m = cont_errmsg(s);
+        print_message("# divergence message (corrector %d): %s\n", corrector, m);
+        CHECK_TRUE(strstr(m, "diagnosis") && strstr(m, "then diverged") &&
+                   strstr(m, "not a turning point"), "no divergence diagnosis: %s", m);
+        CHECK_TRUE(!strstr(m, "residual floor"), "called a floor: %s", m);
+        /* the lowest residual it names is below the Newton tolerance's
+         * 1e4 and the end above 100 times that */
+        const char *q = strstr(m, "scaled residual of ");
+        CHECK_TRUE(q != NULL, "no residual in: %s", m);
+        double lo = 0, hi = 0, end = 0;
+        CHECK_TRUE(q && sscanf(q, "scaled residual of %lf to %lf", &lo, &hi) == 2, "%s", m);
+        const char *e = strstr(m, "diverged to ");
+        CHECK_TRUE(e && sscanf(e, "diverged to %lf", &end) == 1, "%s", m);
+        CHECK_TRUE(lo <= hi && hi <= 1e-6 && end > 100 * lo, "lo %g hi %g end %g", lo, hi, end);
+        /* at most a step or two short enough for the predictor to meet
+         * the tolerance before Newton moved away */
+        long np = cont_num_points(s);
+        CHECK_TRUE(np >= 1 && np <= 3 && cont_point_at(s, np - 1)->p < 1e-3,
+                   "%ld points, the last at p = %g", np, cont_point_at(s, np - 1)->p);
         cont_free(s);
     }
 }
@@ -692,6 +760,7 @@ int main(void)
         cmocka_unit_test(test_bratu_convergence),
         cmocka_unit_test(test_bratu_klu_vs_dense),
         cmocka_unit_test(test_failure_diagnosis),
+        cmocka_unit_test(test_divergence_diagnosis),
         cmocka_unit_test(test_stop_rules),
         cmocka_unit_test(test_bad_input),
     };

@@ -259,6 +259,9 @@ int run_equilibrium(run_ctx *r)
                                                            : CONT_LINSOL_MUMPS);
     const char *formulation, *flat_start, *step_norm;
     if (choose_keys(r, &formulation, &flat_start, &step_norm)) return err->code;
+    if (strcmp(flat_start, "sparse") == 0 && strcmp(formulation, "poses") != 0)
+        return sf_fail(err, SF_EINPUT, "%s: analysis.flat_start = \"sparse\" needs "
+                       "solver.formulation = \"poses\" (it is \"%s\")", s->path, formulation);
     if (strcmp(formulation, "poses") == 0 && sf_equil_use_poses(eq, err)) return err->code;
     if (sf_scene_locate_probes(sc, &r->probes, err)) return err->code;
     int depth = 0;
