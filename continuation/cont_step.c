@@ -277,88 +277,75 @@ static int special_points(cont_solver *s, const cpt *b, const cpt *xe, double he
     return 0;
 }
 
-/* A residual floor: the failed corrector attempts of a step, from some
- * step length down to ds_min, all ended with their scaled residual (the
- * lowest reached, anchored solves included) within FLOOR_FACTOR times the
- * Newton tolerance.  Newton then stagnates at the same residual however
- * short the step is (the predictor is the last point): the equations
- * cannot be solved more accurately there (e.g. nearly dependent constraint
- * rows whose share of the residual a regularised Newton step does not
- * remove), which is neither a turning point nor a branch point of the
- * path.  The first attempts of a step (long steps) may fail otherwise. */
+/* How the trailing failed attempts of a step (from some step length down
+ * to ds_min, at least TAIL_MIN_ATTEMPTS of them) ended, when all alike:
+ *
+ * - a residual floor: each stagnated with its scaled residual (the lowest
+ *   reached, anchored solves included) within FLOOR_FACTOR times the
+ *   Newton tolerance.  Newton stagnates at the same residual however
+ *   short the step is (the predictor is the last point): the equations
+ *   cannot be solved more accurately there (e.g. nearly dependent
+ *   constraint rows whose share of the residual a regularised Newton
+ *   step does not remove);
+ * - a divergence: each came within DIVERGE_NEAR times the tolerance (the
+ *   predictor or a plain Newton iterate) and then ended more than
+ *   DIVERGE_GROWTH times higher, above the floor's range: Newton moves
+ *   away from the branch however short the step is (continuation/
+ *   README.md, "A corrector that diverges next to the tolerance").
+ *
+ * Neither is a turning point or a branch point of the path; the first
+ * attempts of a step (long steps) may fail otherwise. */
 #define FLOOR_FACTOR 10.0
-#define FLOOR_MIN_ATTEMPTS 3
-typedef struct { int near; double lo, hi, ds; } floor_watch;
-
-static void floor_count(const cont_solver *s, floor_watch *fw, double ds)
-{
-    double f = s->fail_fs;
-    if (!(f <= FLOOR_FACTOR * s->ftol)) {
-        *fw = (floor_watch){ 0, INFINITY, 0.0, 0.0 };
-        return;
-    }
-    if (fw->near++ == 0) fw->ds = ds;
-    fw->lo = fmin(fw->lo, f);
-    fw->hi = fmax(fw->hi, f);
-}
-
-/* The diagnosis of a stop at ds_min caused by a residual floor (else ""). */
-static void floor_note(const cont_solver *s, const floor_watch *fw, double tp, char *buf,
-                       size_t len)
-{
-    buf[0] = '\0';
-    if (fw->near < FLOOR_MIN_ATTEMPTS) return;
-    snprintf(buf, len, "; diagnosis: the last %d attempts (steps %.3g down to ds_min) all "
-             "stagnated at a scaled residual of %.3g to %.3g, just above the Newton "
-             "tolerance %.3g, however short the step: a residual floor of the equations at "
-             "this point (e.g. nearly dependent constraint rows, whose share of the residual "
-             "a regularised Newton step does not remove), not a turning point (dp/ds = %.3g "
-             "at the last point); a Newton tolerance above %.3g gets past this point (the "
-             "floor may grow further on)", fw->near, fw->ds, fw->lo, fw->hi,
-             s->ftol, tp, fw->hi);
-}
-
-/* A divergence: the failed corrector attempts of a step, from some step
- * length down to ds_min, each came within DIVERGE_NEAR times the Newton
- * tolerance (the predictor or a plain Newton iterate) and then ended more
- * than DIVERGE_GROWTH times higher, above the floor's range.  Newton then
- * moves away from the branch however short the step is: the equations
- * are nearly singular at this point in a way the corrector's regularised
- * step amplifies (continuation/README.md, "A corrector that diverges next
- * to the tolerance"). */
 #define DIVERGE_NEAR 1e4
 #define DIVERGE_GROWTH 100.0
-typedef struct { int n; double lo, hi, end, ds; } diverge_watch;
+#define TAIL_MIN_ATTEMPTS 3
+enum { TAIL_NONE, TAIL_FLOOR, TAIL_DIVERGE };
+typedef struct { int kind, n; double lo, hi, end, ds; } tail_watch;
 
-static void diverge_count(const cont_solver *s, diverge_watch *dw, double ds)
+static void tail_count(const cont_solver *s, tail_watch *tw, double ds)
 {
-    double lo = s->att_fsmin, f = s->fail_fs;
-    if (!(lo <= DIVERGE_NEAR * s->ftol) || !(f > DIVERGE_GROWTH * lo) ||
-        !(f > FLOOR_FACTOR * s->ftol)) {
-        *dw = (diverge_watch){ 0, INFINITY, 0.0, INFINITY, 0.0 };
-        return;
+    double f = s->fail_fs, lo = f;
+    int kind = TAIL_NONE;
+    if (f <= FLOOR_FACTOR * s->ftol) {
+        kind = TAIL_FLOOR;
+    } else if (s->att_fsmin <= DIVERGE_NEAR * s->ftol && f > DIVERGE_GROWTH * s->att_fsmin) {
+        kind = TAIL_DIVERGE;
+        lo = s->att_fsmin;
     }
-    if (dw->n++ == 0) dw->ds = ds;
-    dw->lo = fmin(dw->lo, lo);
-    dw->hi = fmax(dw->hi, lo);
-    dw->end = fmin(dw->end, f);
+    if (kind == TAIL_NONE || kind != tw->kind)
+        *tw = (tail_watch){ kind, 0, INFINITY, 0.0, INFINITY, ds };
+    if (kind == TAIL_NONE) return;
+    tw->n++;
+    tw->lo = fmin(tw->lo, lo);
+    tw->hi = fmax(tw->hi, lo);
+    tw->end = fmin(tw->end, f);
 }
 
-/* The diagnosis of a stop at ds_min where the trailing attempts diverged
- * (else ""). */
-static void diverge_note(const cont_solver *s, const diverge_watch *dw, double tp, char *buf,
-                         size_t len)
+/* The diagnosis of a stop at ds_min after such attempts (else ""). */
+static void tail_note(const cont_solver *s, const tail_watch *tw, double tp, char *buf,
+                      size_t len)
 {
     buf[0] = '\0';
-    if (dw->n < FLOOR_MIN_ATTEMPTS) return;
-    snprintf(buf, len, "; diagnosis: the last %d attempts (steps %.3g down to ds_min) each "
-             "came to a scaled residual of %.3g to %.3g (tolerance %.3g), then diverged to "
-             "%.3g or more: the Newton step moves away from the branch here (nearly "
-             "singular equations whose regularised step amplifies an error, or a Jacobian "
-             "that does not match the residual), not a turning point (dp/ds = %.3g); the "
-             "points so far meet the tolerance; no setting is known to get past such a point "
-             "(continuation/README.md, \"A corrector that diverges next to the tolerance\")",
-             dw->n, dw->ds, dw->lo, dw->hi, s->ftol, dw->end, tp);
+    if (tw->n < TAIL_MIN_ATTEMPTS) return;
+    if (tw->kind == TAIL_FLOOR)
+        snprintf(buf, len, "; diagnosis: the last %d attempts (steps %.3g down to ds_min) all "
+                 "stagnated at a scaled residual of %.3g to %.3g, just above the Newton "
+                 "tolerance %.3g, however short the step: a residual floor of the equations "
+                 "at this point (e.g. nearly dependent constraint rows, whose share of the "
+                 "residual a regularised Newton step does not remove), not a turning point "
+                 "(dp/ds = %.3g at the last point); a Newton tolerance above %.3g gets past "
+                 "this point (the floor may grow further on)", tw->n, tw->ds, tw->lo, tw->hi,
+                 s->ftol, tp, tw->hi);
+    else
+        snprintf(buf, len, "; diagnosis: the last %d attempts (steps %.3g down to ds_min) each "
+                 "came to a scaled residual of %.3g to %.3g (tolerance %.3g), then diverged "
+                 "to %.3g or more: the Newton step moves away from the branch here (nearly "
+                 "singular equations whose regularised step amplifies an error, or a "
+                 "Jacobian that does not match the residual), not a turning point (dp/ds = "
+                 "%.3g); the points so far meet the tolerance; no setting is known to get "
+                 "past such a point (continuation/README.md, \"A corrector that diverges "
+                 "next to the tolerance\")", tw->n, tw->ds, tw->lo, tw->hi, s->ftol, tw->end,
+                 tp);
 }
 
 /* Compute one step from s->base and queue the resulting points. */
@@ -379,16 +366,14 @@ static int compute_step(cont_solver *s)
     double cosmax = s->max_angle > 0 ? cos(s->max_angle) : -2.0;
     int nit = 0, r;
     double fn = NAN;
-    floor_watch fw = { 0, INFINITY, 0.0, 0.0 };
-    diverge_watch dw = { 0, INFINITY, 0.0, INFINITY, 0.0 };
+    tail_watch tw = { TAIL_NONE, 0, INFINITY, 0.0, INFINITY, 0.0 };
     for (;;) {
         if (ds < s->ds_min) {
             free(c);
             ci_pt_free(x1);
             s->stop_reason = CONT_STOP_DSMIN;
             char fl[640];
-            floor_note(s, &fw, b->t[n], fl, sizeof fl);
-            if (!fl[0]) diverge_note(s, &dw, b->t[n], fl, sizeof fl);
+            tail_note(s, &tw, b->t[n], fl, sizeof fl);
             return ci_fail(s, CONT_FAIL, "continuation stopped at step %ld: the step size "
                         "%.3g fell below ds_min = %.3g at p = %.12g (last accepted point, "
                         "s = %.6g, residual norm %.3g); last attempt: %s%s",
@@ -424,8 +409,7 @@ static int compute_step(cont_solver *s)
             }
         }
         if (r == 0) break;
-        floor_count(s, &fw, ds);
-        diverge_count(s, &dw, ds);
+        tail_count(s, &tw, ds);
         s->stp.retries++;
         ds *= s->shrink;
     }

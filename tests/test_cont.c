@@ -490,6 +490,23 @@ static int nan_jac(const double *y, double p, SUNMatrix J, double *Fp, void *ud)
     return 0;
 }
 
+/* Run s from y0 at p = 0 (steps 0.1 down to ds_min = 1e-6, p in [-1,
+ * pmax]), which must stop at ds_min; its message, printed with what and k. */
+static const char *run_to_dsmin(cont_solver *s, const double *y0, double pmax, const char *what,
+                                int k)
+{
+    CHECK_OK(cont_set_step(s, 0.1, 1e-6, 0.2), s);
+    CHECK_OK(cont_set_prange(s, -1.0, pmax), s);
+    CHECK_OK(cont_start(s, y0, 0.0, +1), s);
+    int st = cont_run(s);
+    CHECK_TRUE(st == CONT_FAIL, "%s %d: status %d, expected CONT_FAIL", what, k, st);
+    CHECK_TRUE(cont_stop_reason(s) == CONT_STOP_DSMIN, "stop reason %s",
+               cont_stop_name(cont_stop_reason(s)));
+    const char *m = cont_errmsg(s);
+    print_message("# %s message (%d): %s\n", what, k, m);
+    return m;
+}
+
 static void test_failure_diagnosis(void **state)
 {
     (void)state;
@@ -497,16 +514,8 @@ static void test_failure_diagnosis(void **state)
         cont_problem prob = {.n = 1, .residual = nan_res, .jacobian = nan_jac,
                              .jac_matrix = CONT_MATRIX_DENSE, .user = &mode};
         cont_solver *s = make(&prob, CONT_LINSOL_DENSE);
-        CHECK_OK(cont_set_step(s, 0.1, 1e-6, 0.2), s);
-        CHECK_OK(cont_set_prange(s, -1.0, 2.0), s);
         double y0 = 0.0;
-        CHECK_OK(cont_start(s, &y0, 0.0, +1), s);
-        int st = cont_run(s);
-        CHECK_TRUE(st == CONT_FAIL, "mode %d: status %d, expected CONT_FAIL", mode, st);
-        CHECK_TRUE(cont_stop_reason(s) == CONT_STOP_DSMIN, "stop reason %s",
-                   cont_stop_name(cont_stop_reason(s)));
-        const char *m = cont_errmsg(s);
-        print_message("# failure message (mode %d): %s\n", mode, m);
+        const char *m = run_to_dsmin(s, &y0, 2.0, "failure", mode);
         CHECK_TRUE(m[0] != '\0', "empty message");
         CHECK_TRUE(strstr(m, "step size") && strstr(m, "ds_min") && strstr(m, "p = "),
                    "message does not name the step size, ds_min and p: %s", m);
@@ -566,16 +575,8 @@ static void test_divergence_diagnosis(void **state)
         cont_solver *s = make(&prob, CONT_LINSOL_DENSE);
         CHECK_OK(cont_set_corrector(s, corrector ? CONT_CORRECTOR_REUSE : CONT_CORRECTOR_NEWTON), s);
         CHECK_OK(cont_set_newton(s, 1e-10, 12, KIN_NONE), s);
-        CHECK_OK(cont_set_step(s, 0.1, 1e-6, 0.2), s);
-        CHECK_OK(cont_set_prange(s, -1.0, 1.0), s);
         double y0[2] = {0.0, 0.0};
-        CHECK_OK(cont_start(s, y0, 0.0, +1), s);
-        int st = cont_run(s);
-        CHECK_TRUE(st == CONT_FAIL, "corrector %d: status %d, expected CONT_FAIL", corrector, st);
-        CHECK_TRUE(cont_stop_reason(s) == CONT_STOP_DSMIN, "stop reason %s",
-                   cont_stop_name(cont_stop_reason(s)));
-        const char *m = cont_errmsg(s);
-        print_message("# divergence message (corrector %d): %s\n", corrector, m);
+        const char *m = run_to_dsmin(s, y0, 1.0, "divergence", corrector);
         CHECK_TRUE(strstr(m, "diagnosis") && strstr(m, "then diverged") &&
                    strstr(m, "not a turning point"), "no divergence diagnosis: %s", m);
         CHECK_TRUE(!strstr(m, "residual floor"), "called a floor: %s", m);
