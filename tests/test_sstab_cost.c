@@ -17,6 +17,13 @@
  *    2^(f-1) - 1 checks (at most 7) are left out: 5 checks in 20 points
  *    (19 before); rank, Morse index and eigenvalues those of a fresh
  *    object at every point.
+ *  - the step bound's second evaluation (sf_sstab_follow_rows): an object
+ *    that follows another takes its independent rows at a point 1e-6
+ *    away, with no QR or check of its own; rank, Morse index and
+ *    eigenvalues those of a fresh object there; the lead's results those
+ *    of a twin without a follower, to the last bit; a row of the lead's
+ *    set that is zero at the new point: the follower decides itself (a
+ *    QR).
  * Runs in well under a second. */
 #include <math.h>
 #include <setjmp.h>
@@ -29,6 +36,7 @@
 #include <cmocka.h>
 
 #include "sf_test.h"
+#include "ldlt.h"
 #include "sstab.h"
 
 #define NC 60     /* coordinates of the cluster case */
@@ -194,6 +202,7 @@ static void test_square_rows(void **state)
  * QR drops it, the check's bound 1e-11 sees it).  HL: tridiag(-0.5, 2 +
  * 0.1 a, -0.5), positive definite: stable, tangent space NS - NT. */
 #define NT 30
+static double streak_eps = 1e-10; /* test_follow_rows: also 3e-9, a weak row (K_w) */
 static void streak_case(double a, int *cp, int *ri, double *v, int *ccp, int *cri, double *cv)
 {
     static double Cd[NT + 1][NS];
@@ -204,7 +213,7 @@ static void streak_case(double a, int *cp, int *ri, double *v, int *ccp, int *cr
         Cd[i][(i + 5) % NS] += 0.7 * cos(i);
     }
     for (int j = 0; j < NS; j++) Cd[NT][j] = Cd[3][j] + Cd[17][j];
-    Cd[NT][NS - 1] += 1e-10 * a;
+    Cd[NT][NS - 1] += streak_eps * a;
     pack_case(NT + 1, Cd, 2.0 + 0.1 * a, -0.5, cp, ri, v, ccp, cri, cv);
 }
 
@@ -246,12 +255,90 @@ static void test_streak_rows(void **state)
     sf_sstab_free(st);
 }
 
+static void follow_case(double eps);
+
+static void test_follow_rows(void **state)
+{
+    (void)state;
+    follow_case(1e-10);
+    follow_case(3e-9);
+    streak_eps = 1e-10;
+}
+
+/* eps 1e-10: the near-dependent row is dropped; 3e-9: it is kept as a
+ * weak row (Heath residual below 1e-8), K_w at every point */
+static void follow_case(double eps)
+{
+    streak_eps = eps;
+    int nt = eps < 1e-9 ? NT : NT + 1; /* the rank */
+    static int cp[NS + 1], ri[2 * NS], ccp[NS + 1], cri[8 * NS];
+    static double v[2 * NS], cv[8 * NS];
+    sf_sstab *lead, *fol;
+    sf_error err;
+    sf_error_clear(&err);
+    sf_sstab_opts o = {.nev = 2, .effort = SF_SSTAB_EIG_BOUNDED};
+    assert_int_equal(sf_sstab_create(&lead, NS, NT + 1, &o, &err), SF_OK);
+    assert_int_equal(sf_sstab_create(&fol, NS, NT + 1, &o, &err), SF_OK);
+    sf_sstab *alone; /* the lead's twin without a follower: the lead's results must be its */
+    assert_int_equal(sf_sstab_create(&alone, NS, NT + 1, &o, &err), SF_OK);
+    sf_sstab_follow_rows(fol, lead);
+    for (int k = 0; k < 4; k++) {
+        double a = 1.0 + 0.01 * k;
+        streak_case(a, cp, ri, v, ccp, cri, cv);
+        sf_csc H = {NS, NS, cp, ri, v}, C = {NT + 1, NS, ccp, cri, cv};
+        assert_int_equal(sf_sstab_eval(lead, &H, &C, &err), SF_OK);
+        assert_int_equal(sf_sstab_eval(alone, &H, &C, &err), SF_OK);
+        const sf_sstab_result *L = sf_sstab_get(lead), *A = sf_sstab_get(alone);
+        assert_int_equal(L->neig, A->neig);
+        for (int i = 0; i < L->neig; i++) assert_true(L->eig[i] == A->eig[i]);
+        assert_int_equal(L->analyses, A->analyses);
+        assert_int_equal(L->nop, A->nop);
+        int lead_qr = L->rank_qr, lead_checks = L->rank_checks;
+        streak_case(a + 1e-6, cp, ri, v, ccp, cri, cv);
+        if (k == 3)
+            for (int t = 0; t < ccp[NS]; t++)
+                if (cri[t] == 5) cv[t] = 0.0; /* a row of the lead's set is zero here */
+        sf_sstab *ref;
+        const sf_sstab_result *F, *R = eval_against_fresh(fol, &H, &C, &o, &ref, &F);
+        print_message("# follow (eps %g), point %d: rank %d (fresh %d), eig1 %.15g (fresh %.15g), "
+                      "%d QRs, %d checks (lead: %d, %d), %d analyses; %s\n", eps, k, R->rank,
+                      F->rank, R->neig ? R->eig[0] : NAN, F->neig ? F->eig[0] : NAN, R->rank_qr,
+                      R->rank_checks, L->rank_qr, L->rank_checks, R->analyses, R->reason);
+        assert_int_equal(R->stable, 1);
+        assert_int_equal(R->neig, F->neig);
+        for (int i = 0; i < R->neig; i++)
+            CHECK_CLOSE(R->eig[i], F->eig[i], 1e-10 * fabs(F->eig[i]), "eigenvalue");
+        /* the lead's rows: no QR or check of its own; the lead untouched.
+         * Point 3: its own decision, a check of the set it last took
+         * (fails: a row is zero) and a QR */
+        assert_int_equal(R->rank, k < 3 ? nt : nt - 1);
+        assert_int_equal(R->rank_qr, k < 3 ? 0 : 1);
+        assert_int_equal(R->rank_checks, k < 3 ? 0 : 1);
+        assert_int_equal(L->rank_qr, lead_qr);
+        assert_int_equal(L->rank_checks, lead_checks);
+        sf_sstab_free(ref);
+    }
+    sf_sstab_free(fol);
+    sf_sstab_free(lead);
+    sf_sstab_free(alone);
+    /* the workspace relaxation: MUMPS's 20 % until set */
+    sf_ldlt *f;
+    assert_int_equal(sf_ldlt_create(&f, 0.0, &err), SF_OK);
+    assert_int_equal(sf_ldlt_relaxation(f), 20);
+    sf_ldlt_set_relaxation(f, 160);
+    assert_int_equal(sf_ldlt_relaxation(f), 160);
+    sf_ldlt_set_relaxation(f, 40);
+    assert_int_equal(sf_ldlt_relaxation(f), 40);
+    sf_ldlt_free(f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_cluster_bounded),
         cmocka_unit_test(test_square_rows),
         cmocka_unit_test(test_streak_rows),
+        cmocka_unit_test(test_follow_rows),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -168,6 +168,21 @@ int sf_ldlt_factor(sf_ldlt *f, int n, long nnz, const int *row, const int *col,
     return SF_OK;
 }
 
+int sf_ldlt_relaxation(const sf_ldlt *f)
+{
+    return f->id.ICNTL(14) > 0 ? f->id.ICNTL(14) : 20;
+}
+
+void sf_ldlt_set_relaxation(sf_ldlt *f, int pct)
+{
+    if (pct > 0) f->id.ICNTL(14) = pct;
+}
+
+int sf_ldlt_has_analysis(const sf_ldlt *f, int n, long nnz, const int *row, const int *col)
+{
+    return same_pattern(f, n, nnz, row, col);
+}
+
 void sf_ldlt_set_pivot_threshold(sf_ldlt *f, double u)
 {
     f->id.CNTL(1) = u;

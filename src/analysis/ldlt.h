@@ -48,6 +48,23 @@ int sf_ldlt_solve(sf_ldlt *f, double *b, sf_error *err);
 /* The next sf_ldlt_factor analyses its matrix afresh even when the pattern is
  * unchanged (MUMPS's analysis depends on the values it was made with). */
 void sf_ldlt_forget_analysis(sf_ldlt *f);
+/* MUMPS's workspace relaxation ICNTL(14), percent over the analysis's
+ * estimate: its default 20 until a factorisation failed for lack of
+ * workspace (INFOG(1) = -8 or -9) and was repeated with twice as much,
+ * then the value that succeeded.  Where the workspace is just enough,
+ * MUMPS's factors can differ in rounding from those with more (random KKT
+ * matrices with zero diagonals and dependent rows, order 1000: at 16 of 30
+ * the factors at the smallest relaxation that succeeded differed from
+ * those at 2 to 32 times more, which all agreed; the inertia never
+ * differed), so a relaxation carried over can change the last digits. */
+int sf_ldlt_relaxation(const sf_ldlt *f);
+/* Start the next factorisations with pct (e.g. what a factorisation of
+ * the same matrix nearby needed: no factorisation repeated to find it
+ * again; or the value before another caller used f). */
+void sf_ldlt_set_relaxation(sf_ldlt *f, int pct);
+/* 1 when f holds an analysis of this n and triplet pattern (the next
+ * sf_ldlt_factor with it makes no analysis), else 0. */
+int sf_ldlt_has_analysis(const sf_ldlt *f, int n, long nnz, const int *row, const int *col);
 /* MUMPS's relative pivot threshold CNTL(1) for the next factorisations
  * (its default 0.01 for a symmetric indefinite matrix). */
 void sf_ldlt_set_pivot_threshold(sf_ldlt *f, double u);

@@ -29,6 +29,11 @@
 
 struct sf_sstab {
     int n, m;
+    sf_sstab *lead;        /* sf_sstab_follow_rows: its independent rows, analyses, workspace */
+    int adopted;           /* this evaluation took lead's rows */
+    sf_ldlt *kf;           /* the factorisation of K in use: f, or lead's f */
+    char *weak_last;       /* [m] the weak rows of the last K_w (kw_last of them; 0: none) */
+    int kw_last;
     sf_sstab_opts o;
     int whole;             /* bounded with its own restart cap: small tangent spaces whole */
     sf_ldlt *f;
@@ -92,7 +97,8 @@ int sf_sstab_create(sf_sstab **out, int n, int m, const sf_sstab_opts *opts, sf_
     s->rnew = calloc((size_t)m + 1, sizeof(int));
     s->b = calloc((size_t)(n + m) + 1, sizeof(double));
     s->res.eig = calloc((size_t)s->o.nev, sizeof(double));
-    if (!s->rs || !s->rnew || !s->b || !s->res.eig) {
+    s->weak_last = calloc((size_t)m + 1, 1);
+    if (!s->rs || !s->rnew || !s->b || !s->res.eig || !s->weak_last) {
         sf_sstab_free(s);
         return sf_fail(err, SF_ENOMEM, "out of memory");
     }
@@ -123,7 +129,13 @@ void sf_sstab_free(sf_sstab *s)
     free(s->rnew);
     free(s->b);
     free(s->res.eig);
+    free(s->weak_last);
     free(s);
+}
+
+void sf_sstab_follow_rows(sf_sstab *s, sf_sstab *lead)
+{
+    s->lead = lead && lead != s && lead->n == s->n && lead->m == s->m ? lead : NULL;
 }
 
 const sf_sstab_result *sf_sstab_get(const sf_sstab *s)
@@ -170,7 +182,12 @@ static int assemble(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *er
         s->rnew[i] = keep ? s->mnz++ : -1;
         s->rs[i] = keep ? 1.0 / s->rs[i] : 0.0;
     }
-    int rc = sf_rowbasis_select(s->rows, C, s->rs, s->rnew, s->mnz, &s->mk, &s->spqr_failed, err);
+    int rc = SF_OK;
+    s->adopted = s->lead && sf_rowbasis_adopt(s->rows, s->lead->rows, s->rs, s->rnew, &s->mk);
+    if (s->adopted)
+        s->spqr_failed = 0; /* the leader's rows (sf_sstab_follow_rows) */
+    else
+        rc = sf_rowbasis_select(s->rows, C, s->rs, s->rnew, s->mnz, &s->mk, &s->spqr_failed, err);
     if (rc) return rc;
     sf_rowbasis_counts(s->rows, &s->res.rank_qr, &s->res.rank_reused, &s->res.rank_checks);
     long need = (long)HL->colptr[n] + (m > 0 ? (long)C->colptr[n] : 0) + n + m;
@@ -233,6 +250,16 @@ static int factor_at(sf_sstab *s, double sigma, int *neg, int *nnull, sf_error *
 {
     long nt = s->ndiag_at + s->n;
     for (long t = s->ndiag_at; t < nt; t++) s->tv[t] = -sigma;
+    if (s->lead && (s->cur == s->f || s->cur == s->fw)) {
+        /* an instance of its own: the workspace relaxation the lead's
+         * factorisations of the same matrix (K or K_w at a point h away)
+         * needed; a new instance of MUMPS starts at 20 % and repeated its
+         * first factorisations two or three times with twice as much
+         * (ldlt.c) */
+        const sf_ldlt *lf = s->cur == s->fw ? s->lead->fw : s->lead->f;
+        if (lf && sf_ldlt_relaxation(lf) > sf_ldlt_relaxation(s->cur))
+            sf_ldlt_set_relaxation(s->cur, sf_ldlt_relaxation(lf));
+    }
     int rc = sf_ldlt_factor(s->cur, s->n + s->mk, nt + s->nextra, s->ti, s->tj, s->tv, err);
     if (rc) return rc;
     sf_ldlt_info in;
@@ -553,11 +580,11 @@ static int mark_weak(sf_sstab *s, char *weak, int want, int *ncand)
     free(wr);
     *ncand = nc;
     sf_ldlt_info in;
-    sf_ldlt_get_info(s->f, &in);
+    sf_ldlt_get_info(s->kf, &in);
     if (in.nnull > 0) {
         int *list = malloc(sizeof(int) * (size_t)in.nnull);
         if (!list) return -1;
-        int q = sf_ldlt_null_rows(s->f, list, in.nnull);
+        int q = sf_ldlt_null_rows(s->kf, list, in.nnull);
         for (int t = 0; t < q && t < in.nnull; t++)
             if (list[t] >= s->n && list[t] < s->n + s->mk) weak[list[t] - s->n] = 1;
         free(list);
@@ -592,7 +619,23 @@ static int take_out_weak(sf_sstab *s, const char *weak, int kw, sf_error *err)
     return SF_OK;
 }
 
+static int eval_point(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err);
+
 int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
+{
+    /* a follower may factorise with the lead's MUMPS instances (their
+     * analyses, sf_sstab_follow_rows); the lead's workspace relaxation is
+     * restored afterwards, so that its own next factorisations are made as
+     * they would have been */
+    sf_sstab *L = s->lead;
+    int rf = L ? sf_ldlt_relaxation(L->f) : 0, rfw = L && L->fw ? sf_ldlt_relaxation(L->fw) : 0;
+    int rc = eval_point(s, HL, C, err);
+    if (L) sf_ldlt_set_relaxation(L->f, rf);
+    if (L && L->fw && rfw) sf_ldlt_set_relaxation(L->fw, rfw);
+    return rc;
+}
+
+static int eval_point(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
 {
     int n = s->n, rc;
     sf_sstab_result *R = &s->res;
@@ -605,8 +648,16 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
     R->morse = -1;
     if ((rc = check_csc(HL, n, n, "HL", err))) return rc;
     if (C && s->m > 0 && (rc = check_csc(C, s->m, n, "C", err))) return rc;
+    s->kw_last = 0;
     if ((rc = assemble(s, HL, C, err))) return rc;
-    s->cur = s->f;
+    /* a follower with the lead's rows factorises K with the lead's instance
+     * and its analysis (the same pattern, values h away): no analysis of
+     * its own.  The lead's analysis stays as it was (sf_ldlt_factor
+     * analyses only a new pattern; a stale one is not renewed on the lead's
+     * instance, below) */
+    s->kf = s->adopted && sf_ldlt_has_analysis(s->lead->f, n + s->mk, s->ndiag_at + n, s->ti, s->tj)
+                ? s->lead->f : s->f;
+    s->cur = s->kf;
     s->nextra = 0;
     if (s->spqr_failed) {
         R->status = SF_SSTAB_UNKNOWN;
@@ -633,20 +684,22 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
     for (int i = 0; i < 3; i++) {
         sigma0 = shifts[i];
         sf_ldlt_info before;
-        sf_ldlt_get_info(s->f, &before);
+        sf_ldlt_get_info(s->kf, &before);
         rc = factor_at(s, sigma0, &neg, &nnull, &e2);
         sf_ldlt_info after;
-        sf_ldlt_get_info(s->f, &after);
+        sf_ldlt_get_info(s->kf, &after);
         if (!rc && i == 0 && nnull > 0 && after.analyses == before.analyses) {
             /* null pivots with an analysis made at an earlier point: MUMPS's
              * analysis depends on the values, and a stale one can report
-             * null pivots a fresh one does not (docs/stability.md) */
+             * null pivots a fresh one does not (docs/stability.md).  A
+             * follower analyses afresh on its own instance, not the lead's */
+            s->kf = s->cur = s->f;
             sf_ldlt_forget_analysis(s->f);
             rc = factor_at(s, sigma0, &neg, &nnull, &e2);
         }
         if (!rc && i == 0) {
             sf_ldlt_info in;
-            sf_ldlt_get_info(s->f, &in);
+            sf_ldlt_get_info(s->kf, &in);
             R->det_sign = in.det_sign;
             R->null_at_zero = nnull;
         }
@@ -690,8 +743,16 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
          * (ICNTL(14), ldlt.c; 116 of 300 factorisations on the 12 x 12
          * Miura path); branch.tsv stays the same to the byte */
         if (s->fw) sf_ldlt_forget_analysis(s->fw);
-        s->cur = s->f;
+        s->cur = s->kf;
         rc = take_out_weak(s, weak, kw, &e2);
+        /* a follower whose weak rows are those of the lead's last K_w (the
+         * same rows and residuals, K's null pivots alike) factorises K_w
+         * with the lead's instance and that analysis, made h away: the
+         * lead analyses its next K_w afresh anyway */
+        if (!rc && s->adopted && s->lead->fw && s->lead->kw_last == kw &&
+            memcmp(weak, s->lead->weak_last, (size_t)s->mk) == 0 &&
+            sf_ldlt_has_analysis(s->lead->fw, n + s->mk, s->ndiag_at + n + s->mk, s->ti, s->tj))
+            s->cur = s->lead->fw;
         for (int i = 0; i < 3 && !rc; i++) {
             sigma0 = shifts[i];
             rc = factor_at(s, sigma0, &negw, &nw, &e2);
@@ -700,6 +761,10 @@ int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err)
         }
         if (rc || (nw == 0 && negw >= s->rank_k) || want >= ncand) break;
         want *= 2; /* K_w's count fails too: take out more of the weakest rows */
+    }
+    if (!rc && kw > 0) { /* what the analysis of fw was made for (a follower's) */
+        memcpy(s->weak_last, weak, (size_t)s->mk);
+        s->kw_last = kw;
     }
     free(weak);
     if (kw < 0) return sf_fail(err, SF_ENOMEM, "out of memory");

@@ -127,4 +127,21 @@ void sf_sstab_free(sf_sstab *s);
 int sf_sstab_eval(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *err);
 const sf_sstab_result *sf_sstab_get(const sf_sstab *s);
 
+/* The next evaluations of s follow lead's last evaluation: they take its
+ * independent constraint rows (same n and m; its Heath residuals too)
+ * instead of deciding them with a check or QR of their own (sstab_rows.h),
+ * factorise K with lead's MUMPS instance and its analysis (the same
+ * pattern), K_w too when its weak rows are those of lead's last K_w, and
+ * otherwise start their own instances at the workspace relaxation lead's
+ * needed (ldlt.h).  NULL: s decides itself again.  For the step bound's
+ * second evaluation, h = 1e-6 along the tangent from the point lead has
+ * just evaluated (bifurcation.h): the same constraint set and pivot order
+ * at both, so the eigenvalues compared are of the same problem.  A lead
+ * without a set, or a row of its set zero at the new point: s decides
+ * itself.  lead's results and its next evaluations do not change: its
+ * factors are overwritten (they are not used after its evaluation), its
+ * analyses and workspace relaxation are kept (a stale analysis is renewed
+ * on s's own instance, lead analyses every K_w afresh). */
+void sf_sstab_follow_rows(sf_sstab *s, sf_sstab *lead);
+
 #endif

@@ -35,6 +35,7 @@ struct sf_rowbasis {
     int square_skip;     /* checks of a set of n rows left out (straight to the QR) */
     int skip;            /* checks of any set left out after failures in a row */
     int fails;           /* checks failed in a row */
+    int adopted;         /* sets taken from another object (sf_rowbasis_adopt) */
     double *resid;       /* [m] Heath residual |R(k,k)| of a row of S at the last QR */
 };
 
@@ -277,6 +278,24 @@ static int still_spans(sf_rowbasis *b, const sf_csc *C, const double *rs, const 
             if (rnew[i] >= 0 && !(a <= (b->ins[i] ? FLOOR_TOL : OUT_TOL))) return 0;
         }
     }
+    return 1;
+}
+
+int sf_rowbasis_adopt(sf_rowbasis *b, const sf_rowbasis *from, double *rs, int *rnew, int *mk)
+{
+    if (!from || from->ns <= 0 || from->n != b->n || from->m != b->m) return 0;
+    for (int i = 0; i < b->m; i++)
+        if (from->ins[i] && rnew[i] < 0) return 0; /* a row of the set is zero here */
+    memcpy(b->ins, from->ins, sizeof(int) * (size_t)b->m);
+    memcpy(b->resid, from->resid, sizeof(double) * (size_t)b->m);
+    b->ns = from->ns;
+    b->adopted++;
+    int t = 0;
+    for (int i = 0; i < b->m; i++) {
+        rnew[i] = b->ins[i] ? t++ : -1;
+        if (rnew[i] < 0) rs[i] = 0.0;
+    }
+    *mk = t;
     return 1;
 }
 

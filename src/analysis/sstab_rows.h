@@ -43,6 +43,13 @@ void sf_rowbasis_free(sf_rowbasis *b);
 int sf_rowbasis_select(sf_rowbasis *b, const sf_csc *C, double *rs, int *rnew, int mnz, int *mk,
                        int *failed, sf_error *err);
 
+/* The set of `from` (another object over the same rows, e.g. the one of
+ * the evaluation at a point h away) taken as this one's without a QR or a
+ * check, with its Heath residuals: 1 done (rs, rnew and *mk as after
+ * sf_rowbasis_select), 0 when `from` has no set or a row of it is zero
+ * here (rnew[i] < 0), and then nothing changed. */
+int sf_rowbasis_adopt(sf_rowbasis *b, const sf_rowbasis *from, double *rs, int *rnew, int *mk);
+
 /* [m]: for a row of the set, its Heath residual |R(k,k)| at the QR that
  * chose it (its distance from the span of the rows chosen before it, on
  * the unit rows); 0 for other rows. */

@@ -59,15 +59,27 @@ int sf_stab_read_keys(sf_stab *st, const sf_study *s, sf_error *err)
     return sf_study_int(s, "analysis.arpack_attempts", 4, &st->arpack_attempts, err);
 }
 
-/* The sparse solver, created at the first use. */
+void sf_stab_follow(sf_stab *st, const sf_stab *lead)
+{
+    st->lead = lead;
+}
+
+/* The sparse solver, created at the first use; it follows the lead's rows
+ * when st has one (sf_stab_follow). */
 static int sparse_solver(sf_stab *st, sf_error *err)
 {
-    if (st->sp) return SF_OK;
+    if (st->sp) {
+        sf_sstab_follow_rows(st->sp, st->lead ? st->lead->sp : NULL);
+        return SF_OK;
+    }
     int m = resolved_method(st->method, st->nq);
     sf_sstab_opts o = {.nev = st->nev, .maxiter = st->arpack_maxiter,
                        .attempts = st->arpack_attempts,
                        .effort = m == SF_EIG_INERTIA ? SF_SSTAB_EIG_BOUNDED : SF_SSTAB_EIG_FULL};
-    return sf_sstab_create(&st->sp, st->nq, st->ncon, &o, err);
+    int rc = sf_sstab_create(&st->sp, st->nq, st->ncon, &o, err);
+    if (rc) return rc;
+    sf_sstab_follow_rows(st->sp, st->lead ? st->lead->sp : NULL);
+    return SF_OK;
 }
 
 int sf_stab_init(sf_stab *st, const sf_equil *q, int method, int nev, sf_error *err)
@@ -286,6 +298,7 @@ static int eval_sparse_kkt(sf_stab *st, sf_equil *q, const double *y, double p, 
 
 int sf_stab_eval(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *err)
 {
+    st->nevals++;
     if (st->sparse_kkt) return eval_sparse_kkt(st, q, y, p, err);
     if (sf_equil_kkt(q, y, p, st->HL, st->C))
         return sf_fail(err, SF_ENUMERIC, "stability: non-finite Hessian at p = %g", p);

@@ -86,6 +86,8 @@ typedef struct sf_stab {
     int sparse_kkt;        /* face poses: sparse blocks to sp, no dense HL, C */
     int arpack_maxiter;    /* 0: sstab.h default; set before the first eval */
     int arpack_attempts;   /* 0: sstab.h default */
+    const struct sf_stab *lead; /* sf_stab_follow */
+    long nevals;           /* evaluations so far */
     sf_stab_result res;
 } sf_stab;
 
@@ -98,6 +100,11 @@ int sf_stab_init(sf_stab *st, const sf_equil *q, int method, int nev, sf_error *
  * attempt of the inertia method (docs/stability.md). */
 int sf_stab_read_keys(sf_stab *st, const sf_study *s, sf_error *err);
 void sf_stab_free(sf_stab *st);
+
+/* The sparse methods of st take the independent constraint rows of lead's
+ * last evaluation instead of deciding them anew (sf_sstab_follow_rows);
+ * lead NULL: st decides again.  The dense method is not affected. */
+void sf_stab_follow(sf_stab *st, const sf_stab *lead);
 
 /* Stability of the solved point (y, p) of q; the result is st->res (valid
  * until the next call).  Fails (SF_ENUMERIC) only on non-finite input or a

@@ -129,6 +129,7 @@ int run_on_point(const cont_point *pt, void *data)
             r->failed = 1;
             return 1;
         }
+        long evals_here = r->stab.nevals; /* the evaluation of this point */
         r->neig_method[r->stab.res.method]++;
         r->neig_inertia += r->stab.res.method == SF_EIG_INERTIA && r->stab.res.neig > 0;
         const sf_stab_result *S = &r->stab.res;
@@ -152,7 +153,12 @@ int run_on_point(const cont_point *pt, void *data)
         free(ybuf);
         if (r->step_bound && pt->index >= 1 && pt->type == CONT_PT_REGULAR) {
             /* two eigenvalue crossings predicted within the next step: end
-             * it between them (bifurcation.h, sf_bif_step_bound) */
+             * it between them (bifurcation.h, sf_bif_step_bound).  The
+             * second evaluation, h = 1e-6 along the tangent, takes the
+             * independent constraint rows of this point's (unless the
+             * Morse-index check evaluated elsewhere since): no check or QR
+             * of its own, the same constraint set at both */
+            sf_stab_follow(&r->stab2, r->stab.nevals == evals_here ? &r->stab : NULL);
             double bnd = sf_bif_step_bound(&r->stab.res, &r->stab2, eq, pt, cont_get_ds(r->solver));
             if (bnd > 0 && cont_set_next_step(r->solver, bnd) == CONT_OK) r->nbound++;
         }
