@@ -28,9 +28,10 @@
 #     of 110 that the K run, 102, is not) keeps the K run's choices;
 #  9: the 2x2 sheet under gravity and a tip load (bench/miura-study.sh 2
 #     load 1): the fold formulation's flat start (the choice below the
-#     threshold) finds no first point, and its message names the pose
-#     formulation's sparse start first; with those two keys the path runs
-#     to p = 1 (exit 0).
+#     threshold) finds no first point, so the run goes again with the
+#     sparse pose start and reaches p = 1 (exit 0), its header and
+#     study.cfg say so; with solver.formulation = "folds" set there is no
+#     second run, and the message names the pose start first (exit 3).
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 . "$src/tests/tap.sh"
@@ -126,16 +127,17 @@ r=0
     ! grep -q '^# auto' "$tmp/conv/kplus1/branch.tsv" && r=1
 check $r "convergence: the K+1 run (126 unknowns, threshold 110) keeps folds/limit/sum (exit $a; study.cfg: $k)"
 
-# 9: a failed start of the fold formulation names the sparse pose start,
-# which runs the sheet
+# 9: a failed fold start chosen by auto is run again with the sparse pose
+# start; one set by hand names it
 sh "$src/bench/miura-study.sh" 2 load 1 >"$tmp/m2l.cfg"
 "$bin" run "$tmp/m2l.cfg" -q -o "$tmp/m2l" >"$tmp/m2l.out" 2>&1
 a=$?
-"$bin" run "$tmp/m2l.cfg" -q -o "$tmp/m2lp" --set solver.formulation='"poses"' \
-    --set analysis.flat_start='"sparse"' >"$tmp/m2lp.out" 2>&1
+pend=$(grep -v '^#' "$tmp/m2l/branch.tsv" 2>/dev/null | tail -n 1 | cut -f 4)
+k=$(keys "$tmp/m2l")
+"$bin" run "$tmp/m2l.cfg" -q -o "$tmp/m2lf" --set solver.formulation='"folds"' >"$tmp/m2lf.out" 2>&1
 b=$?
-pend=$(grep -v '^#' "$tmp/m2lp/branch.tsv" 2>/dev/null | tail -n 1 | cut -f 4)
 r=0
-[ "$a" = 3 ] && grep -q 'off the flat state in the fold formulation (another start to try: solver.formulation = "poses", analysis.flat_start = "sparse")' "$tmp/m2l.out" &&
-    [ "$b" = 0 ] && [ "$pend" = 1 ] && r=1
-check $r "2x2 under gravity and a tip load: the fold start fails naming the sparse pose start (exit $a), which runs to p = $pend (exit $b)"
+[ "$a" = 0 ] && [ "$pend" = 1 ] && [ "$k" = "poses sparse sum" ] &&
+    grep -q '^# auto: the fold formulation.s flat start found no first point; run again with solver.formulation = "poses", analysis.flat_start = "sparse" (it said: .*off the flat state in the fold formulation (limit start' "$tmp/m2l/branch.tsv" &&
+    [ "$b" = 3 ] && grep -q 'off the flat state in the fold formulation (another start to try: solver.formulation = "poses", analysis.flat_start = "sparse")' "$tmp/m2lf.out" && r=1
+check $r "2x2 under gravity and a tip load: auto runs it again with the sparse pose start, to p = $pend (exit $a; study.cfg: $k); folds set by hand: exit $b naming that start"

@@ -735,9 +735,7 @@ int sf_equil_start_flat(sf_equil *q, struct cont_solver *cs, double p0, double p
      * (docs/flatstart.md) and starts sheets where this one fails (the
      * Miura 2x2 sheet under gravity and a tip load): named first, so that
      * a long reason cannot cut it off */
-    static const char other[] = "in the fold formulation (another start to try: "
-                                "solver.formulation = \"poses\", analysis.flat_start = "
-                                "\"sparse\")";
+    static const char other[] = "in the fold formulation" SF_FLAT_POSES_HINT;
     if (sf_equil_start_off_flat(q, p1, tol, y, &lerr))
         return sf_fail(err, lerr.code, "%s: no equilibrium at p = %g off the flat state %s "
                        "(limit start: %s; penalty start: %s)", q->m->study->path, p1, other, why,

@@ -98,6 +98,11 @@ struct cont_solver;
  * 2x2 Miura sheet under tip loads of 0.01 to 1 N (docs/flatstart.md). */
 #define SF_FLAT_REG_REL 2e-5
 #define SF_FLAT_REG_MIN 1e-14
+/* The hint of a failed flat start of the fold formulation (flatstart.c):
+ * the pose formulation's sparse start, which src/cli/run.c tries by itself
+ * where "auto" chose the fold formulation */
+#define SF_FLAT_POSES_HINT " (another start to try: solver.formulation = \"poses\", " \
+                           "analysis.flat_start = \"sparse\")"
 #define SF_FLAT_REG_REL_POSES 2e-7
 #define SF_FLAT_REG_MIN_POSES 1e-16
 int sf_equil_start_flat(sf_equil *q, struct cont_solver *cs, double p0, double p1, int dir,

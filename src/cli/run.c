@@ -10,6 +10,7 @@
 #include <time.h>
 
 #include "run_boundary.h"
+#include "flatstart.h"
 #include "run_dynamics.h"
 #include "run_impl.h"
 #include "study.h"
@@ -19,6 +20,74 @@ static double now(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* Open the writers of a run in r->dir (shapes, folded.fold) and start
+ * branch.tsv's header. */
+static int run_open(run_ctx *r, sf_error *err)
+{
+    sf_scene *sc = r->sc;
+    char pvd[1100];
+    snprintf(pvd, sizeof pvd, "%s/shapes.pvd", r->dir);
+    sf_pvd_init(&r->pvd, pvd);
+    if (sf_foldrec_init(&r->foldrec, &sc->model, err)) return err->code;
+    sf_outbuf_printf(&r->header, "# smoothfold %s: %s, analysis %s\n", PACKAGE_VERSION,
+                     sc->study.name, sc->study.analysis_type);
+    return SF_OK;
+}
+
+/* Free what run_open and run_equilibrium set up in r. */
+static void run_release(run_ctx *r)
+{
+    if (r->solver) cont_free(r->solver);
+    sf_bif_free(&r->bif);
+    sf_equil_free(&r->eq);
+    free(r->probes);
+    free(r->flat_first);
+    free(r->rows.s);
+    free(r->stats.s);
+    free(r->special.s);
+    free(r->header.s);
+    free(r->bnotes.s);
+    if (r->do_stab) sf_stab_free(&r->stab);
+    if (r->do_stab && r->step_bound) sf_stab_free(&r->stab2);
+    sf_reactions_free(&r->reac);
+    sf_pvd_free(&r->pvd);
+    sf_foldrec_free(&r->foldrec);
+}
+
+/* The fold formulation's flat start, chosen by "auto" for a small sheet,
+ * found no first point: the same study again with the sparse pose start,
+ * which starts sheets where that one fails (docs/flatstart.md, "Limits");
+ * branch.tsv's header says why. */
+static int run_again_in_poses(run_ctx *r, sf_error *err)
+{
+    char why[700];
+    snprintf(why, sizeof why, "%.690s", err->msg);
+    char *hint = strstr(why, SF_FLAT_POSES_HINT);   /* the advice being taken */
+    if (hint) {
+        const char *rest = hint + strlen(SF_FLAT_POSES_HINT);
+        memmove(hint, rest, strlen(rest) + 1);
+    }
+    run_ctx keep = *r;
+    run_release(r);
+    memset(r, 0, sizeof *r);
+    r->sc = keep.sc;
+    r->opt = keep.opt;
+    r->err = err;
+    r->cmp = keep.cmp;
+    memcpy(r->dir, keep.dir, sizeof r->dir);
+    sf_error_clear(err);
+    sf_study *s = &r->sc->study;
+    if (sf_study_set_string(s, "solver.formulation", "poses", err) ||
+        sf_study_set_string(s, "analysis.flat_start", "sparse", err) || run_open(r, err))
+        return err->code;
+    const char *line = "auto: the fold formulation's flat start found no first point; run "
+                       "again with solver.formulation = \"poses\", analysis.flat_start = "
+                       "\"sparse\"";
+    sf_outbuf_printf(&r->header, "# %s (it said: %s)\n", line, why);
+    if (!r->opt->quiet) fprintf(stderr, "smoothfold: %s\n", line);
+    return run_equilibrium(r);
 }
 
 int sf_cmd_run(const sf_options *o, sf_error *err)
@@ -62,16 +131,10 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     if (!rc) rc = sf_compare_open(&r.cmp, &sc.study, err);   /* bad reference files: before any output */
     if (!rc) rc = sf_cli_outdir(o, r.dir, err);   /* earlier results removed */
     if (!rc && sc.study.shapes > 0) rc = sf_mkdir_p(shapes, err);
+    if (!rc) rc = run_open(&r, err);
     if (!rc) {
-        char pvd[1100];
-        snprintf(pvd, sizeof pvd, "%s/shapes.pvd", r.dir);
-        sf_pvd_init(&r.pvd, pvd);
-        rc = sf_foldrec_init(&r.foldrec, &sc.model, err);
-    }
-    if (!rc) {
-        sf_outbuf_printf(&r.header, "# smoothfold %s: %s, analysis %s\n", PACKAGE_VERSION,
-                  sc.study.name, sc.study.analysis_type);
         rc = run_equilibrium(&r);
+        if (rc == SF_ENUMERIC && r.retry_poses) rc = run_again_in_poses(&r, err);
         if (rc == SF_ENUMERIC && r.npoints > 0) {
             /* keep the path up to where it stopped: complete files whose
              * header says why it stopped; the exit status stays non-zero */
@@ -109,21 +172,7 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
                      "%s (raise analysis.max_steps or analysis.step)", sc.study.path, r.max_steps,
                      r.short_branch, r.short_p, r.p_lo, r.p_hi, r.dir);
     sf_compare_free(r.cmp);
-    if (r.solver) cont_free(r.solver);
-    sf_bif_free(&r.bif);
-    sf_equil_free(&r.eq);
-    free(r.probes);
-    free(r.flat_first);
-    free(r.rows.s);
-    free(r.stats.s);
-    free(r.special.s);
-    free(r.header.s);
-    free(r.bnotes.s);
-    if (r.do_stab) sf_stab_free(&r.stab);
-    if (r.do_stab && r.step_bound) sf_stab_free(&r.stab2);
-    sf_reactions_free(&r.reac);
-    sf_pvd_free(&r.pvd);
-    sf_foldrec_free(&r.foldrec);
+    run_release(&r);
     sf_scene_close(&sc);
     return rc;
 }

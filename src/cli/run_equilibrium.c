@@ -148,7 +148,11 @@ static int start_at_flat(run_ctx *r, double *y0, double start, double end, doubl
         rc = eq->pz ? sf_equil_poses_start_flat(eq, cs, start, p1, dir, tol, y0, err)
                     : sf_equil_start_flat(eq, cs, start, p1, dir, tol, y0, fb, &fi, err);
     if (fi.note[0]) run_branch_note(r, "%s", fi.note);
-    if (rc) return *ret = explain_start_failure(r), 1;
+    if (rc) {
+        *ret = explain_start_failure(r);
+        r->retry_poses = r->auto_small && !eq->pz && *ret == SF_ENUMERIC;
+        return 1;
+    }
     if (depth >= 1 && !eq->pz && !r->failed) {
         /* every branch of the flat state, after the path (flat_switch) */
         r->flat_first = malloc(sizeof(double) * (size_t)eq->n);
@@ -203,6 +207,7 @@ static int choose_keys(run_ctx *r, const char **form, const char **fs, const cha
                       : !an ? "analysis.step_norm is set"
                             : NULL;
     int big = large && !why;
+    r->auto_small = af && as && an && !why && !large;   /* run.c may retry in poses */
     if (af) *form = big ? "poses" : "folds";
     if (as) *fs = big ? "sparse" : "limit";
     if (an) *norm = big ? "rms" : "sum";
