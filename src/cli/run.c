@@ -9,8 +9,8 @@
 #include <string.h>
 #include <time.h>
 
-#include "run_boundary.h"
 #include "flatstart.h"
+#include "run_boundary.h"
 #include "run_dynamics.h"
 #include "run_impl.h"
 #include "study.h"
@@ -69,14 +69,18 @@ static int run_again_in_poses(run_ctx *r, sf_error *err)
         const char *rest = hint + strlen(SF_FLAT_POSES_HINT);
         memmove(hint, rest, strlen(rest) + 1);
     }
-    run_ctx keep = *r;
+    sf_scene *sc = r->sc;
+    const sf_options *opt = r->opt;
+    sf_compare *cmp = r->cmp;
+    char dir[sizeof r->dir];
+    memcpy(dir, r->dir, sizeof dir);
     run_release(r);
-    memset(r, 0, sizeof *r);
-    r->sc = keep.sc;
-    r->opt = keep.opt;
+    memset(r, 0, sizeof *r);   /* the context of a fresh run in the same directory */
+    r->sc = sc;
+    r->opt = opt;
     r->err = err;
-    r->cmp = keep.cmp;
-    memcpy(r->dir, keep.dir, sizeof r->dir);
+    r->cmp = cmp;
+    memcpy(r->dir, dir, sizeof dir);
     sf_error_clear(err);
     sf_study *s = &r->sc->study;
     if (sf_study_set_string(s, "solver.formulation", "poses", err) ||

@@ -181,7 +181,10 @@ static int start_at_flat(run_ctx *r, double *y0, double start, double end, doubl
  * are written back into the study (DIR/study.cfg records what was run; the
  * K+1 run of analysis.convergence, a larger problem, keeps them), and a
  * sheet above the threshold gets one header line saying what auto chose
- * and why.  *form, *fs, *norm: string literals or the study's values. */
+ * and why.  Where all three were "auto" and the sheet is small, r->auto_small
+ * lets run.c run the study again with the sparse pose start if the fold
+ * formulation's flat start fails.  *form, *fs, *norm: string literals or
+ * the study's values. */
 static int choose_keys(run_ctx *r, const char **form, const char **fs, const char **norm)
 {
     sf_study *s = &r->sc->study;
