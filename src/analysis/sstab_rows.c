@@ -35,7 +35,6 @@ struct sf_rowbasis {
     int square_skip;     /* checks of a set of n rows left out (straight to the QR) */
     int skip;            /* checks of any set left out after failures in a row */
     int fails;           /* checks failed in a row */
-    int adopted;         /* sets taken from another object (sf_rowbasis_adopt) */
     double *resid;       /* [m] Heath residual |R(k,k)| of a row of S at the last QR */
 };
 
@@ -289,7 +288,6 @@ int sf_rowbasis_adopt(sf_rowbasis *b, const sf_rowbasis *from, double *rs, int *
     memcpy(b->ins, from->ins, sizeof(int) * (size_t)b->m);
     memcpy(b->resid, from->resid, sizeof(double) * (size_t)b->m);
     b->ns = from->ns;
-    b->adopted++;
     int t = 0;
     for (int i = 0; i < b->m; i++) {
         rnew[i] = b->ins[i] ? t++ : -1;

@@ -68,16 +68,15 @@ void sf_stab_follow(sf_stab *st, const sf_stab *lead)
  * when st has one (sf_stab_follow). */
 static int sparse_solver(sf_stab *st, sf_error *err)
 {
-    if (st->sp) {
-        sf_sstab_follow_rows(st->sp, st->lead ? st->lead->sp : NULL);
-        return SF_OK;
+    if (!st->sp) {
+        int m = resolved_method(st->method, st->nq);
+        sf_sstab_opts o = {.nev = st->nev, .maxiter = st->arpack_maxiter,
+                           .attempts = st->arpack_attempts,
+                           .effort = m == SF_EIG_INERTIA ? SF_SSTAB_EIG_BOUNDED
+                                                         : SF_SSTAB_EIG_FULL};
+        int rc = sf_sstab_create(&st->sp, st->nq, st->ncon, &o, err);
+        if (rc) return rc;
     }
-    int m = resolved_method(st->method, st->nq);
-    sf_sstab_opts o = {.nev = st->nev, .maxiter = st->arpack_maxiter,
-                       .attempts = st->arpack_attempts,
-                       .effort = m == SF_EIG_INERTIA ? SF_SSTAB_EIG_BOUNDED : SF_SSTAB_EIG_FULL};
-    int rc = sf_sstab_create(&st->sp, st->nq, st->ncon, &o, err);
-    if (rc) return rc;
     sf_sstab_follow_rows(st->sp, st->lead ? st->lead->sp : NULL);
     return SF_OK;
 }
