@@ -99,7 +99,7 @@
  * the stage's start.  Where the first stage leads to a state that is
  * kept, or one left at the next stage as before (24x24), the longest such
  * run measured is 5 (12x12 under gravity and a tip load, 24x24 under
- * actuation), at most 3 elsewhere (4x4 to 24x24 under actuation, 4x4 to
+ * actuation), at most 3 elsewhere (4x4 to 20x20 under actuation, 4x4 to
  * 12x12 under load; docs/flatstart.md, "A first stage that makes no
  * progress"). */
 #define FIRST_STALL 10
