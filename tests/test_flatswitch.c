@@ -129,7 +129,14 @@ static void test_square4(void **state)
      * corrected from that state in the hyperplane orthogonal to the
      * branch's tangent; its distance to the exact state falls like 1/f.
      * Newton tolerance 1e-13 f: the scaled residual holds f times the
-     * rounding of the loop residuals. */
+     * rounding of the loop residuals.  Which branch is lowest depends on
+     * the orbits the 400 starts find: the 2-ray orbit at p* = 0.31145
+     * (docs/bifurcation.md), whose distances fall by 10 per decade from
+     * f = 10^5, or, where the starts miss it (seen on an AVX-512
+     * machine), the 4-ray one at 0.31385, whose 1/f regime begins near
+     * 10^7 (2.6e-3, 8.2e-4, 1.6e-4, 1.8e-5 at 10^5..10^8); so the
+     * distance must fall at every decade up to 10^9 and like 1/f over
+     * the last two. */
     cont_set_step(cs, 0.01, 1e-8, 0.02);
     assert_int_equal(cont_start_tangent(cs, F.y, F.p[0], F.ty, F.tp[0]), CONT_OK);
     for (int step = 0; step < 20; step++) assert_int_equal(cont_step(cs), CONT_CONTINUE);
@@ -139,10 +146,10 @@ static void test_square4(void **state)
     assert_non_null(tb);
     memcpy(yb, pe0->y, sizeof(double) * (size_t)n);
     memcpy(tb, pe0->ty, sizeof(double) * (size_t)nq);
-    double pb = pe0->p, tpb = pe0->tp, amp = 0.0, prev = INFINITY, d5 = 0.0;
+    double pb = pe0->p, tpb = pe0->tp, amp = 0.0, prev = INFINITY, d7 = 0.0, d8 = 0.0;
     for (int k = 0; k < nq; k++) amp = fmax(amp, fabs(yb[k]));
     print_message("# penalty x f at p = %.6f (amplitude %.3f rad): max |q_penalty - q_exact| [rad]\n", pb, amp);
-    for (int j = 5; j <= 8; j++) {
+    for (int j = 5; j <= 9; j++) {
         double f = pow(10.0, j);
         sf_equil pe;
         CHECK_OK(sf_equil_init(&pe, &sc.model, SF_PARAM_LOAD, -1, 0, 2, 0.0, &err), err);
@@ -163,17 +170,20 @@ static void test_square4(void **state)
         double d = 0.0;
         for (int k = 0; k < nq; k++) d = fmax(d, fabs(yp[k] - yb[k]));
         print_message("%g\t%.3g\n", f, d);
-        if (!(d < 0.2 * prev)) print_error("penalty x %g: %.3g, not below a fifth of %.3g\n", f, d, prev);
-        assert_true(d < 0.2 * prev);
+        if (!(d < prev)) print_error("penalty x %g: %.3g, not below %.3g\n", f, d, prev);
+        assert_true(d < prev);
+        if (j >= 8 && !(d < 0.2 * prev)) print_error("penalty x %g: %.3g, not below a fifth of %.3g\n", f, d, prev);
+        if (j >= 8) assert_true(d < 0.2 * prev);
         prev = d;
-        if (j == 5) d5 = d;
+        if (j == 7) d7 = d;
+        if (j == 8) d8 = d;
         cont_free(ps);
         free(y);
         free(t);
         sf_equil_free(&pe);
     }
-    /* like 1/f over the three decades, within a factor 2 */
-    CHECK_LE(prev, 2e-3 * d5, "penalty x 1e8: distance to the exact state (x 1e5: %.3g)", d5);
+    /* like 1/f over the last two decades, within a factor 2 */
+    CHECK_LE(prev, 2e-2 * d7, "penalty x 1e9: distance to the exact state (x 1e7: %.3g, x 1e8: %.3g)", d7, d8);
     free(yb);
     free(tb);
     cont_free(cs);

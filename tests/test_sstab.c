@@ -321,7 +321,7 @@ static void test_sstab_bounded(void **state)
             sf_error_clear(&err);
             /* cap: one restart at a tolerance it cannot meet, no eigenvalues */
             sf_sstab_opts o = {.nev = 4, .effort = SF_SSTAB_EIG_BOUNDED, .maxiter = cap ? 1 : 0,
-                               .tol = cap ? 1e-15 : 0};
+                               .tol = cap ? 1e-300 : 0};
             assert_int_equal(sf_sstab_create(&st, NCH, 3, &o, &err), SF_OK);
             assert_int_equal(sf_sstab_eval(st, &P.H, &P.C, &err), SF_OK);
             const sf_sstab_result *R = sf_sstab_get(st);
@@ -730,10 +730,12 @@ static void test_sstab_null_at_zero_weak(void **state)
             sf_sstab *st;
             sf_error err;
             sf_error_clear(&err);
-            /* bounded at n = NW: one restart at a tolerance it cannot meet */
+            /* bounded at n = NW: one restart at a tolerance it cannot meet (1e-15
+             * was met in one restart on some machines: H_c has few distinct
+             * eigenvalues, so the Krylov space is nearly invariant) */
             int cap = n == NW && effort == SF_SSTAB_EIG_BOUNDED;
             sf_sstab_opts o = {.nev = 2, .effort = effort, .maxiter = cap ? 1 : 0,
-                               .attempts = cap ? 1 : 0, .tol = cap ? 1e-15 : 0};
+                               .attempts = cap ? 1 : 0, .tol = cap ? 1e-300 : 0};
             assert_int_equal(sf_sstab_create(&st, n, MD, &o, &err), SF_OK);
             assert_int_equal(sf_sstab_eval(st, &Hs, &Cs, &err), SF_OK);
             const sf_sstab_result *R = sf_sstab_get(st);
