@@ -19,13 +19,15 @@
  * self-stresses, k <= CERT_MAXK) when the dense method found a negative
  * eigenvalue at a point with redundant rows, and reports the point stable
  * (Morse index 0, no eigenvalues: they depend on mu) when one is found;
- * otherwise the dense result stands.  Where the rows keep their rank the extra term is
+ * otherwise unknown (stable -1, with the reason), since the dense index
+ * at the point's own multipliers is then no proof of instability.  Where the rows keep their rank the extra term is
  * zero to round-off and nothing changes.  Fold formulation, dense method
  * only (face poses start their multipliers from zero and small). */
 #include "stability.h"
 
 #include <math.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 
 extern void dgesvd_(const char *jobu, const char *jobvt, const int *m, const int *n, double *a,
@@ -173,7 +175,7 @@ int sf_stab_certify(sf_stab *st, sf_equil *q, const double *y, double p, sf_erro
     if (q->pz || R->method != SF_EIG_DENSE || R->morse == 0 || nc == 0 || R->dim == 0 ||
         R->rank >= nc || nc - R->rank > CERT_MAXK)
         return SF_OK;
-    int k = nc - R->rank, d = R->dim, mn = nq < nc ? nq : nc, info = 0;
+    int k = nc - R->rank, d = R->dim, mn = nq < nc ? nq : nc, info = 0, dense_morse = R->morse;
     size_t NQ = (size_t)nq, NC = (size_t)nc, D = (size_t)d, K = (size_t)k;
     double *A = malloc(sizeof(double) * (NQ * NC + NQ * NQ + NC * NC + NQ + NC + 8));
     double *HL0 = malloc(sizeof(double) * (2 * NQ * NQ + NC * NQ + 2));
@@ -281,7 +283,22 @@ int sf_stab_certify(sf_stab *st, sf_equil *q, const double *y, double p, sf_erro
     if (!(tau > 0.0)) tau = 1e-6 * emax;
     double margin = 1e-8 * emax;
     double *G = mu + K, *rhs = G + K * K, *trial = rhs + 2 * K + 2;
-    if (!ascend(&c, mu, tau, margin, G, rhs, trial)) goto done;
+    if (!ascend(&c, mu, tau, margin, G, rhs, trial)) {
+        /* no self-stress found that makes the reduced Hessian positive
+         * definite.  The ascent is local (it stalled at a few points of the
+         * 2x2 waterbomb path on one machine and not on another), and a
+         * negative eigenvalue at the point's own multipliers proves nothing
+         * here (above): the verdict is unknown, not unstable */
+        R->morse = 0;
+        R->morse_unknown = 1;
+        R->stable = -1;
+        R->neig = 0;
+        R->status = SF_SSTAB_UNKNOWN;
+        snprintf(R->reason, sizeof R->reason,
+                 "redundant constraint rows that change rank: Morse index %d at the path's "
+                 "multipliers, and no self-stress found that makes the point stable", dense_morse);
+        goto done;
+    }
     if (eig_at(&c, mu, 0)) goto done;
     R->morse = 0;
     R->morse_unknown = 0;

@@ -133,7 +133,10 @@ int run_on_point(const cont_point *pt, void *data)
         r->neig_method[r->stab.res.method]++;
         r->neig_inertia += r->stab.res.method == SF_EIG_INERTIA && r->stab.res.neig > 0;
         const sf_stab_result *S = &r->stab.res;
-        if (S->status != SF_SSTAB_OK)
+        if (S->status != SF_SSTAB_OK && S->method == SF_EIG_DENSE)
+            run_branch_note(r, "stability at row %ld (branch %d, p = %.10g): UNKNOWN (dense "
+                        "method): %s", r->npoints, r->bif.branch, pt->p, S->reason);
+        else if (S->status != SF_SSTAB_OK)
             run_branch_note(r, "stability at row %ld (branch %d, p = %.10g): %s after %d ARPACK "
                         "attempt(s): %s", r->npoints, r->bif.branch, pt->p,
                         S->status == SF_SSTAB_RETRIED ? "retried, converged"
