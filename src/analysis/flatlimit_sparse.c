@@ -86,18 +86,24 @@
  * does not fall at all after the first stage. */
 #define FIRST_COLLAPSE 0.75
 /* The first start's first stage (eta = 1e-8) is also left, and made again
- * from eta = 1e-9, when its residual has not fallen below half its
- * lowest value for this many Newton iterations (analysis.flat_stall, this
- * its default; 0: never): on the 31x31 Miura sheet
- * it wanders (scaled residual 100 to 4000 from its start at 13.5, fold
- * amplitude 0.29) for 82 iterations towards the penalty-held state that
- * then falls back at eta = 1e-9 (above).  Where the first stage leads to
- * a state that is kept, or one left at the next stage as before (24x24),
- * the longest such run measured is 19 iterations (24x24 Miura under
- * actuation), 16 under gravity and a tip load (5x5), 14 at 8x8 under
- * load, at most 12 elsewhere (docs/flatstart.md, "A first stage that
- * makes no progress"). */
-#define FIRST_STALL 30
+ * from eta = 1e-9, when, once its fold amplitude has settled (moves by at
+ * most STALL_MOVE of itself per step), its residual has not fallen below
+ * half its lowest value since for this many Newton iterations
+ * (analysis.flat_stall, this its default; 0: never).  While the amplitude
+ * moves the iterate travels (it halves at the first steps, then grows
+ * back) and the residual's climb is no verdict.  On the 31x31 Miura sheet
+ * the amplitude settles at 0.29 after 10 iterations (the uniform Miura
+ * motion has 0.63) and the residual wanders between 160 and 950 without
+ * halving (the penalty-held state that then falls back at eta = 1e-9,
+ * above): left after 20 iterations, was 30 with the former count from
+ * the stage's start.  Where the first stage leads to a state that is
+ * kept, or one left at the next stage as before (24x24), the longest such
+ * run measured is 5 (12x12 under gravity and a tip load, 24x24 under
+ * actuation), at most 3 elsewhere (4x4 to 20x20 under actuation, 4x4 to
+ * 12x12 under load; docs/flatstart.md, "A first stage that makes no
+ * progress"). */
+#define FIRST_STALL 10
+#define STALL_MOVE 0.1
 #define PIVOT_U 1e-3     /* MUMPS's CNTL(1) for the limit matrix (lw_init) */
 
 typedef struct lim_ws {
@@ -429,12 +435,21 @@ static int lw_stage(lim_ws *L, double *w, double eta, double tol, int maxit, int
 {
     int n = L->n, N = 2 * n, target = 2 * L->ncon;
     double best = INFINITY;   /* the stall rule (FIRST_STALL) */
+    double amp_prev = 0.0;
     int since = 0;
+    int full_ok = 0;   /* the last step's matrix: the full one, of the right inertia */
     for (int it = 0; it < maxit; it++) {
         int neg = 0;
         if (lw_assemble(L, w, eta, err)) return -1;
         *res = lw_resnorm(L);
-        if (*res < 0.5 * best) {
+        /* the stall rule counts the iterations without progress once the
+         * fold amplitude has settled (moves by at most STALL_MOVE per
+         * step): while it moves, the iterate travels and the residual's
+         * climb is no verdict */
+        double amp = fold_max(L, w);
+        int moving = it > 0 && fabs(amp - amp_prev) > STALL_MOVE * amp_prev;
+        amp_prev = amp;
+        if (moving || *res < 0.5 * best) {
             best = *res;
             since = 0;
         } else if (L->stall_on && L->stall > 0 && ++since >= L->stall) {
@@ -442,6 +457,12 @@ static int lw_stage(lim_ws *L, double *w, double eta, double tol, int maxit, int
             return 2;
         }
         if (*res <= tol) {
+            /* the converged state's inertia: that of the last Newton
+             * matrix when it was the full one with the right inertia (at
+             * the iterate before, whose step converged), else of the full
+             * matrix factorised here: one factorisation less per stage
+             * (docs/flatstart.md, "The inertia at a converged stage") */
+            if (full_ok) return 0;
             if (lw_shifted(L, 0, 0.0, &neg, err)) return -1;
             if (neg <= target) return 0;
             if (++*pushes > MAXPUSH) return 1;
@@ -468,8 +489,9 @@ static int lw_stage(lim_ws *L, double *w, double eta, double tol, int maxit, int
          * Newton iterations on the 16x16 Miura sheet, 250 without
          * convergence on the 31x31 one); the Gauss-Newton matrix is
          * convex there and its steps keep their length (16x16: 30).  The
-         * converged state's inertia is that of the full matrix. */
+         * converged state's inertia is that of the full matrix (above). */
         if (lw_shifted(L, 0, 0.0, &neg, err)) return -1;
+        full_ok = neg <= target;
         if (neg > target) {
             double shift = 0.0;
             for (int k = 0; k < 40; k++) {
