@@ -361,18 +361,9 @@ static int correct_reuse_anchored(cont_solver *s, double *x, const double *c, co
         if (s->prob.anchor(u, u[n], lev, s->prob.user) != 0) break;
         int k = 0, r = ci_correct_reuse(s, u, c, xa, sig, maxit, 0, &k, NULL);
         s->prob.anchor(NULL, 0.0, 0, s->prob.user);
-        if (r != 0) {
-            /* a smaller weight will not converge either; the plain
-             * residual where this level ended (its last iterate, in s->u),
-             * for the floor diagnosis of a stop at ds_min (cont_step.c) */
-            double *ul = N_VGetArrayPointer(s->u);
-            if (ci_all_finite(ul, m) && ci_call_residual(s, ul, ul[n], s->w1) == 0)
-                s->ranc_fs = fmin(s->ranc_fs, ci_fscaled_max(s, s->w1, n));
-            break;
-        }
+        if (r != 0) break;   /* a smaller weight will not converge either */
         if (ci_call_residual(s, u, u[n], s->w1) != 0) break;
         fs = ci_fscaled_max(s, s->w1, n);
-        s->ranc_fs = fmin(s->ranc_fs, fs);
         if (lev == 1) {
             /* the bias first: a plain residual just above ftol at the
              * first level is the anchor's own, removed by the proximal
@@ -382,7 +373,6 @@ static int correct_reuse_anchored(cont_solver *s, double *x, const double *c, co
             long ip = s->stp.newton_iters;
             fs = reanchor(s, u, c, xa, sig, maxit, fs);
             npx += s->stp.newton_iters - ip;
-            s->ranc_fs = fmin(s->ranc_fs, fs);
         }
         if (fs <= s->ftol) break;
         if (!(fs < fbest)) break;
@@ -409,7 +399,6 @@ int ci_correct_step(cont_solver *s, double *x, const double *c, const double *xa
 {
     s->polish_iters = 0;
     s->att_fsmin = INFINITY;
-    s->ranc_fs = INFINITY;
     s->fail_fs = NAN;   /* not a stale value where a later check rejects the point */
     if (s->strategy == KIN_NONE) {
         if (correct_reuse_anchored(s, x, c, xa, sig, s->max_newton, nit, fnorm) == 0) return 0;

@@ -145,10 +145,6 @@ struct cont_solver {
     double att_fsmin;        /* lowest scaled residual of the plain Newton
                               * iterates of the last step attempt, its
                               * predictor included (INFINITY: none) */
-    double ranc_fs;          /* lowest plain residual at the end of a level of
-                              * the anchored reusing corrector (cont_set_anchor_first)
-                              * in the last step attempt, converged or not
-                              * (INFINITY: none) */
     int att_track;           /* a plain Newton of a step attempt is running */
     int anchor_first;        /* cont_set_anchor_first */
     int predictor;           /* cont_set_predictor: 1 or 2 */

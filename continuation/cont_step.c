@@ -293,26 +293,16 @@ static int special_points(cont_solver *s, const cpt *b, const cpt *xe, double he
  *   away from the branch however short the step is (continuation/
  *   README.md, "A corrector that diverges next to the tolerance").
  *
- * - a floor of the anchored corrector (cont_set_anchor_first): neither
- *   of the above in the plain Newton, which started far from the branch
- *   or moved away from it without coming near the tolerance, while the
- *   anchored system's levels ended (converged or at their iteration
- *   limit) with a plain residual within FLOOR_FACTOR times the tolerance:
- *   the floor above, met by the corrector that keeps the multipliers in
- *   place, with the plain Newton diverging beside it (continuation/
- *   README.md, "The 12x12 load path").
- *
  * Neither is a turning point or a branch point of the path; the first
  * attempts of a step (long steps) may fail otherwise. */
 #define FLOOR_FACTOR 10.0
 #define DIVERGE_NEAR 1e4
 #define DIVERGE_GROWTH 100.0
 #define TAIL_MIN_ATTEMPTS 3
-enum { TAIL_NONE, TAIL_FLOOR, TAIL_DIVERGE, TAIL_AFLOOR };
+enum { TAIL_NONE, TAIL_FLOOR, TAIL_DIVERGE };
 typedef struct { int kind, n; double lo, hi, end, ds; } tail_watch;
 
-/* corr_failed: the corrector failed (not a check after it) */
-static void tail_count(const cont_solver *s, tail_watch *tw, double ds, int corr_failed)
+static void tail_count(const cont_solver *s, tail_watch *tw, double ds)
 {
     double f = s->fail_fs, lo = f;
     int kind = TAIL_NONE;
@@ -321,9 +311,6 @@ static void tail_count(const cont_solver *s, tail_watch *tw, double ds, int corr
     } else if (s->att_fsmin <= DIVERGE_NEAR * s->ftol && f > DIVERGE_GROWTH * s->att_fsmin) {
         kind = TAIL_DIVERGE;
         lo = s->att_fsmin;
-    } else if (corr_failed && s->ranc_fs <= FLOOR_FACTOR * s->ftol) {
-        kind = TAIL_AFLOOR;
-        lo = s->ranc_fs;
     }
     if (kind == TAIL_NONE || kind != tw->kind)
         *tw = (tail_watch){ kind, 0, INFINITY, 0.0, INFINITY, ds };
@@ -349,14 +336,6 @@ static void tail_note(const cont_solver *s, const tail_watch *tw, double tp, cha
                  "(dp/ds = %.3g at the last point); a Newton tolerance above %.3g gets past "
                  "this point (the floor may grow further on)", tw->n, tw->ds, tw->lo, tw->hi,
                  s->ftol, tp, tw->hi);
-    else if (tw->kind == TAIL_AFLOOR)
-        snprintf(buf, len, "; diagnosis: the last %d attempts (steps %.3g down to ds_min) met a "
-                 "residual floor: the anchored corrector ended at a scaled residual of %.3g to "
-                 "%.3g, just above the Newton tolerance %.3g, however short the step, and the "
-                 "plain Newton, which does not hold the multipliers, did not converge beside it "
-                 "(ended at %.3g or more); nearly dependent constraint rows, not a turning point "
-                 "(dp/ds = %.3g); a Newton tolerance above %.3g may get past this point",
-                 tw->n, tw->ds, tw->lo, tw->hi, s->ftol, tw->end, tp, tw->hi);
     else
         snprintf(buf, len, "; diagnosis: the last %d attempts (steps %.3g down to ds_min) each "
                  "came to a scaled residual of %.3g to %.3g (tolerance %.3g), then diverged "
@@ -413,7 +392,6 @@ static int compute_step(cont_solver *s)
         }
         /* the engine's own Newton only without a line search */
         r = ci_correct_step(s, x1->x, c, b->x, ds, &nit, &fn);
-        int corr_failed = r != 0;
         if (r == 0) {
             r = ci_eval_point(s, x1, c, +1, 0);
             if (r == CONT_EUSER) {
@@ -431,7 +409,7 @@ static int compute_step(cont_solver *s)
             }
         }
         if (r == 0) break;
-        tail_count(s, &tw, ds, corr_failed);
+        tail_count(s, &tw, ds);
         s->stp.retries++;
         ds *= s->shrink;
     }

@@ -599,86 +599,6 @@ static void test_divergence_diagnosis(void **state)
 }
 
 /* ------------------------------------------------------------------ */
-/* a floor of the anchored corrector: y = (y1, y2), F = (y1 - p, y2 -    */
-/* g(p)), g = A (p - 0.3)^2 beyond p = 0.3, with dF2/dy2 given as -1/10  */
-/* instead of 1 in the plain Jacobian (the plain Newton multiplies the   */
-/* error of y2 by 11 per iteration) and exact in the anchored system     */
-/* (cont_anchor_fn), whose residual F2 - b leaves the plain residual b = */
-/* 3e-10 (3 times the tolerance) beyond p = 0.35.  y2 has no weight in   */
-/* the norm and grows fast, so the plain Newton starts far from the      */
-/* branch even at ds_min; the stop there must name the anchored floor,   */
-/* not a divergence next to the tolerance (the Miura 12x12 load path,    */
-/* continuation/README.md)                                               */
-
-#define AF_A 1e7
-#define AF_BIAS 3e-10
-
-static int af_res(const double *y, double p, double *F, void *u)
-{
-    const int *anch = u;
-    double q = p > 0.3 ? p - 0.3 : 0.0;
-    F[0] = y[0] - p;
-    F[1] = y[1] - AF_A * q * q;
-    if (*anch && p >= 0.35) F[1] -= AF_BIAS;
-    return 0;
-}
-
-static int af_jac(const double *y, double p, SUNMatrix J, double *Fp, void *u)
-{
-    (void)y;
-    const int *anch = u;
-    double q = p > 0.3 ? p - 0.3 : 0.0;
-    SM_ELEMENT_D(J, 0, 0) = 1.0;
-    SM_ELEMENT_D(J, 0, 1) = 0.0;
-    SM_ELEMENT_D(J, 1, 0) = 0.0;
-    SM_ELEMENT_D(J, 1, 1) = *anch ? 1.0 : -0.1;   /* plain: wrong */
-    Fp[0] = -1.0;
-    Fp[1] = -2.0 * AF_A * q;
-    return 0;
-}
-
-static int af_anchor(const double *y, double p, int on, void *u)
-{
-    (void)y; (void)p;
-    *(int *)u = on;
-    return 0;
-}
-
-static void test_anchored_floor_diagnosis(void **state)
-{
-    (void)state;
-    int anch = 0;
-    cont_problem prob = {.n = 2, .residual = af_res, .jacobian = af_jac,
-                         .jac_matrix = CONT_MATRIX_DENSE, .anchor = af_anchor, .user = &anch};
-    cont_solver *s = make(&prob, CONT_LINSOL_DENSE);
-    CHECK_OK(cont_set_corrector(s, CONT_CORRECTOR_REUSE), s);
-    CHECK_OK(cont_set_newton(s, 1e-10, 12, KIN_NONE), s);
-    CHECK_OK(cont_set_anchor_first(s, 1), s);
-    const double w[2] = {1.0, 0.0};
-    CHECK_OK(cont_set_weights(s, w), s);
-    double y0[2] = {0.0, 0.0};
-    const char *m = run_to_dsmin(s, y0, 1.0, "anchored floor", 0);
-    CHECK_TRUE(strstr(m, "diagnosis") && strstr(m, "residual floor") &&
-               strstr(m, "anchored corrector") && strstr(m, "not a turning point"),
-               "no anchored-floor diagnosis: %s", m);
-    CHECK_TRUE(!strstr(m, "then diverged"), "called a divergence: %s", m);
-    const char *q = strstr(m, "scaled residual of ");
-    double lo = 0, hi = 0, end = 0;
-    CHECK_TRUE(q && sscanf(q, "scaled residual of %lf to %lf", &lo, &hi) == 2, "%s", m);
-    const char *e = strstr(m, "(ended at ");
-    CHECK_TRUE(e && sscanf(e, "(ended at %lf", &end) == 1, "%s", m);
-    /* the floor is the bias, the plain Newton ends far above it */
-    CHECK_TRUE(lo >= 0.9 * AF_BIAS && hi <= 1.1 * AF_BIAS && end > 1e-6,
-               "lo %g hi %g end %g", lo, hi, end);
-    /* the points reach the floor's start and meet the tolerance */
-    long np = cont_num_points(s);
-    const cont_point *last = cont_point_at(s, np - 1);
-    CHECK_TRUE(last->p > 0.34 && last->p < 0.35, "%ld points, the last at p = %g", np, last->p);
-    CHECK_TRUE(anch == 0, "the anchor left on");
-    cont_free(s);
-}
-
-/* ------------------------------------------------------------------ */
 /* stop rules: F = x^3 + x - p                                          */
 
 static int cub_res(const double *y, double p, double *F, void *u)
@@ -842,7 +762,6 @@ int main(void)
         cmocka_unit_test(test_bratu_klu_vs_dense),
         cmocka_unit_test(test_failure_diagnosis),
         cmocka_unit_test(test_divergence_diagnosis),
-        cmocka_unit_test(test_anchored_floor_diagnosis),
         cmocka_unit_test(test_stop_rules),
         cmocka_unit_test(test_bad_input),
     };
