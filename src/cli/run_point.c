@@ -133,15 +133,18 @@ int run_on_point(const cont_point *pt, void *data)
         r->neig_method[r->stab.res.method]++;
         r->neig_inertia += r->stab.res.method == SF_EIG_INERTIA && r->stab.res.neig > 0;
         const sf_stab_result *S = &r->stab.res;
-        if (S->status != SF_SSTAB_OK && S->method == SF_EIG_DENSE)
-            run_branch_note(r, "stability at row %ld (branch %d, p = %.10g): UNKNOWN (dense "
-                        "method): %s", r->npoints, r->bif.branch, pt->p, S->reason);
-        else if (S->status != SF_SSTAB_OK)
-            run_branch_note(r, "stability at row %ld (branch %d, p = %.10g): %s after %d ARPACK "
-                        "attempt(s): %s", r->npoints, r->bif.branch, pt->p,
-                        S->status == SF_SSTAB_RETRIED ? "retried, converged"
-                        : S->stable < 0 ? "UNKNOWN" : "eigenvalues unknown, unstable by inertia",
-                        S->attempts, S->reason);
+        if (S->status != SF_SSTAB_OK) {
+            char how[80];
+            if (S->method == SF_EIG_DENSE)   /* no ARPACK: stab_cert.c's unknown */
+                snprintf(how, sizeof how, "UNKNOWN (dense method)");
+            else
+                snprintf(how, sizeof how, "%s after %d ARPACK attempt(s)",
+                         S->status == SF_SSTAB_RETRIED ? "retried, converged"
+                         : S->stable < 0 ? "UNKNOWN" : "eigenvalues unknown, unstable by inertia",
+                         S->attempts);
+            run_branch_note(r, "stability at row %ld (branch %d, p = %.10g): %s: %s", r->npoints,
+                            r->bif.branch, pt->p, how, S->reason);
+        }
         if (sf_bif_check(&r->bif, pt, r->s_offset, r->branch_first, r->err)) {
             r->failed = 1;
             return 1;
