@@ -164,6 +164,7 @@ void ci_clear_run(cont_solver *s)
     s->state = ST_IDLE;
     s->anchor_level = 0;
     s->reuse_level = 0;
+    memset(&s->afl, 0, sizeof s->afl);
     s->stop_reason = CONT_STOP_NONE;
     s->steps = 0;
     s->index = 0;

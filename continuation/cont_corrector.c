@@ -359,7 +359,9 @@ static int correct_reuse_anchored(cont_solver *s, double *x, const double *c, co
     for (; lev <= ANCHOR_LAST; lev++) {
         memcpy(u, best, (size_t)m * sizeof(double));
         if (s->prob.anchor(u, u[n], lev, s->prob.user) != 0) break;
+        s->att_anch = 1;
         int k = 0, r = ci_correct_reuse(s, u, c, xa, sig, maxit, 0, &k, NULL);
+        s->att_anch = 0;
         s->prob.anchor(NULL, 0.0, 0, s->prob.user);
         if (r != 0) break;   /* a smaller weight will not converge either */
         if (ci_call_residual(s, u, u[n], s->w1) != 0) break;
@@ -399,17 +401,22 @@ int ci_correct_step(cont_solver *s, double *x, const double *c, const double *xa
 {
     s->polish_iters = 0;
     s->att_fsmin = INFINITY;
+    s->att_afs = INFINITY;
     s->fail_fs = NAN;   /* not a stale value where a later check rejects the point */
     if (s->strategy == KIN_NONE) {
         if (correct_reuse_anchored(s, x, c, xa, sig, s->max_newton, nit, fnorm) == 0) return 0;
         s->att_track = 1;
         int r = ci_correct_reuse(s, x, c, xa, sig, s->max_newton, 0, nit, fnorm);
         s->att_track = 0;
-        if (r == 0) return 0;
+        if (r == 0) {
+            s->att_afs = INFINITY;   /* a point: not a failure of the corrector */
+            return 0;
+        }
     }
     s->att_track = 1;   /* ci_correct's plain KINSOL attempt, not its anchored retry */
     int r = ci_correct(s, x, c, xa, sig, s->max_newton, s->strategy, nit, fnorm);
     s->att_track = 0;
+    if (r == 0) s->att_afs = INFINITY;
     return r;
 }
 
@@ -444,7 +451,7 @@ static int reuse_newton(cont_solver *s, double *x, const double *c, const double
     double *u = N_VGetArrayPointer(s->u), *b = N_VGetArrayPointer(s->vb);
     double *d = N_VGetArrayPointer(s->vx);
     memcpy(u, x, (size_t)m * sizeof(double));
-    double dlast = HUGE_VAL, fsprev = HUGE_VAL;
+    double dlast = HUGE_VAL, fsprev = HUGE_VAL, fsit = INFINITY;
     for (int k = 0;; k++) {
         if (ci_call_residual(s, u, u[n], b) != 0) return 1;
         double g = -sig;
@@ -452,6 +459,7 @@ static int reuse_newton(cont_solver *s, double *x, const double *c, const double
         b[n] = g;
         double fs = ci_fscaled_max(s, b, m);
         if (s->att_track) s->att_fsmin = fmin(s->att_fsmin, fs);
+        if (k > 0) fsit = fmin(fsit, fs);   /* after a Newton step: not the guess */
         if (monotone && fs > s->ftol && !(fs < fsprev)) return 1;
         fsprev = fs;
         if (k > 0 && fs <= s->ftol && dlast <= s->xtol * (1.0 + step_norm2(s, u))) {
@@ -462,7 +470,10 @@ static int reuse_newton(cont_solver *s, double *x, const double *c, const double
             memcpy(x, u, (size_t)m * sizeof(double));
             return 0;
         }
-        if (k == maxit) return 1;
+        if (k == maxit) {
+            if (s->att_anch) s->att_afs = fmin(s->att_afs, fsit);
+            return 1;
+        }
         if (ci_call_jacobian(s, u, u[n]) != 0) return 1;
         for (long i = 0; i < m; i++) b[i] = -b[i];
         /* the Newton step with the factors of an earlier iterate, refined,

@@ -146,6 +146,18 @@ struct cont_solver {
                               * iterates of the last step attempt, its
                               * predictor included (INFINITY: none) */
     int att_track;           /* a plain Newton of a step attempt is running */
+    double att_afs;          /* lowest scaled residual of the Newton iterates of
+                              * the last step attempt's anchored reusing
+                              * corrector, where a level of it ended at its
+                              * iteration limit (INFINITY: none did) */
+    int att_anch;            /* that corrector of a step attempt is running */
+    struct {                 /* failed step attempts in a row, across steps,
+                              * whose anchored corrector stagnated at the
+                              * tolerance (cont_step.c, afloor_count) */
+        int n;
+        long pts;            /* points accepted since the first of them */
+        double lo, hi, p, ds;
+    } afl;
     int anchor_first;        /* cont_set_anchor_first */
     int predictor;           /* cont_set_predictor: 1 or 2 */
     double *tprev, hprev;    /* the tangent of the point before the step base and

@@ -348,6 +348,49 @@ static void tail_note(const cont_solver *s, const tail_watch *tw, double tp, cha
                  tp);
 }
 
+/* The failed attempts in a row, across steps, whose anchored reusing
+ * corrector ended at its iteration limit with its residual (the lowest of
+ * its iterates) within FLOOR_FACTOR times the tolerance: a floor of the
+ * anchored Newton, which the attempts of a step at ds_min alone do not
+ * show when accepted points come in between (an iteration that happens to
+ * end below the tolerance; the step then grows and the next attempt fails
+ * again, continuation/README.md, "The 12x12 load path").  Any other
+ * failure ends the run of them. */
+static void afloor_count(cont_solver *s, double ds, double p)
+{
+    double f = s->att_afs;
+    if (!(f <= FLOOR_FACTOR * s->ftol)) {
+        s->afl.n = 0;
+        return;
+    }
+    if (s->afl.n == 0) {
+        s->afl.lo = s->afl.hi = f;
+        s->afl.p = p;
+        s->afl.ds = ds;
+        s->afl.pts = 0;
+    }
+    s->afl.n++;
+    s->afl.lo = fmin(s->afl.lo, f);
+    s->afl.hi = fmax(s->afl.hi, f);
+}
+
+/* The diagnosis of a stop at ds_min after such attempts, where tail_note
+ * has none (else ""). */
+static void afloor_note(const cont_solver *s, const tail_watch *tw, double tp, char *buf,
+                        size_t len)
+{
+    if (tw->n >= TAIL_MIN_ATTEMPTS || s->afl.n < TAIL_MIN_ATTEMPTS) return;
+    snprintf(buf, len, "; diagnosis: the last %d failed attempts (from p = %.6g, steps %.3g "
+             "down to ds_min, %ld points accepted between them) each ended with the anchored "
+             "corrector at its iteration limit, stagnating at a scaled residual of %.3g to "
+             "%.3g (tolerance %.3g) however short the step: a residual floor (nearly dependent "
+             "constraint rows), not a turning point (dp/ds = %.3g); the plain Newton "
+             "failed too; a Newton tolerance above %.3g or equations without the dependent "
+             "rows (e.g. a penalty) may get further (continuation/README.md, \"The 12x12 load "
+             "path\")", s->afl.n, s->afl.p, s->afl.ds, s->afl.pts, s->afl.lo, s->afl.hi, s->ftol,
+             tp, s->afl.hi);
+}
+
 /* Compute one step from s->base and queue the resulting points. */
 static int compute_step(cont_solver *s)
 {
@@ -372,8 +415,9 @@ static int compute_step(cont_solver *s)
             free(c);
             ci_pt_free(x1);
             s->stop_reason = CONT_STOP_DSMIN;
-            char fl[640];
+            char fl[700];
             tail_note(s, &tw, b->t[n], fl, sizeof fl);
+            if (!fl[0]) afloor_note(s, &tw, b->t[n], fl, sizeof fl);
             return ci_fail(s, CONT_FAIL, "continuation stopped at step %ld: the step size "
                         "%.3g fell below ds_min = %.3g at p = %.12g (last accepted point, "
                         "s = %.6g, residual norm %.3g); last attempt: %s%s",
@@ -410,9 +454,11 @@ static int compute_step(cont_solver *s)
         }
         if (r == 0) break;
         tail_count(s, &tw, ds);
+        afloor_count(s, ds, b->x[n]);
         s->stp.retries++;
         ds *= s->shrink;
     }
+    if (s->afl.n > 0) s->afl.pts++;
     x1->pub.newton_iters = nit;
     x1->pub.resnorm = fn;
     x1->pub.ds = ds;

@@ -522,6 +522,7 @@ static void test_failure_diagnosis(void **state)
         CHECK_TRUE(strstr(m, mode == 0 ? "non-finite" : "returned -3"),
                    "message does not give the cause: %s", m);
         CHECK_TRUE(!strstr(m, "diverged"), "a NaN failure called a divergence: %s", m);
+        CHECK_TRUE(!strstr(m, "anchored corrector"), "a NaN failure called a floor: %s", m);
         long np = cont_num_points(s);
         CHECK_TRUE(np > 2, "only %ld points", np);
         for (long i = 0; i < np; i++) {
@@ -594,6 +595,92 @@ static void test_divergence_diagnosis(void **state)
         long np = cont_num_points(s);
         CHECK_TRUE(np >= 1 && np <= 3 && cont_point_at(s, np - 1)->p < 1e-3,
                    "%ld points, the last at p = %g", np, cont_point_at(s, np - 1)->p);
+        cont_free(s);
+    }
+}
+
+/* ------------------------------------------------------------------ */
+/* a floor of the anchored corrector: F as div_res, the plain Jacobian   */
+/* as div_jac (Newton diverges), the anchored one exact (Newton          */
+/* converges), and beyond p = 0.5 a term a sgn(e) in F2 (e = y2 -        */
+/* y1^2 / 10) that no Newton step removes: the anchored iterates then    */
+/* alternate e = +-a, residual 2a = 1.5e-10 against the tolerance 1e-10, */
+/* up to the iteration limit (lower where an iterate's p is below 0.5).  The path crawls to p = 0.5, accepted      */
+/* points in between, and its last step fails at fewer attempts than    */
+/* tail_note counts; the stop must say what the anchored corrector did.  */
+/* With a NaN residual beyond p = 0.5 instead (nan = 1) it must not.     */
+
+typedef struct { int on, nan; double eps, ya2; } afl_anchor;
+
+static int afl_res(const double *y, double p, double *F, void *u)
+{
+    const afl_anchor *a = u;
+    double e = y[1] - 0.1 * y[0] * y[0];
+    F[0] = y[0] * y[0] * y[0] + y[0] - p;
+    F[1] = e + (p > 0.5 ? 0.75e-10 * ((e > 0) - (e < 0)) : 0.0);
+    if (a->nan && p > 0.5) F[1] = NAN;
+    if (a->on) F[1] -= a->eps * (y[1] - a->ya2);
+    return 0;
+}
+
+static int afl_jac(const double *y, double p, SUNMatrix J, double *Fp, void *u)
+{
+    const afl_anchor *a = u;
+    div_jac(y, p, J, Fp, NULL);
+    if (a->on) SM_ELEMENT_D(J, 1, 1) = 1.0 - a->eps;   /* exact (but the floor term) */
+    return 0;
+}
+
+static int afl_anchor_fn(const double *y, double p, int on, void *u)
+{
+    (void)p;
+    afl_anchor *a = u;
+    a->on = on;
+    if (on) {
+        a->eps = 1e-10 * pow(0.1, on - 1);
+        a->ya2 = y[1];
+    }
+    return 0;
+}
+
+static void test_anchored_floor_diagnosis(void **state)
+{
+    (void)state;
+    for (int nan = 0; nan < 2; nan++) {
+        afl_anchor an = {0, nan, 0.0, 0.0};
+        cont_problem prob = {.n = 2, .residual = afl_res, .jacobian = afl_jac,
+                             .jac_matrix = CONT_MATRIX_DENSE, .anchor = afl_anchor_fn,
+                             .user = &an};
+        cont_solver *s = make(&prob, CONT_LINSOL_DENSE);
+        CHECK_OK(cont_set_corrector(s, CONT_CORRECTOR_REUSE), s);
+        CHECK_OK(cont_set_anchor_first(s, 1), s);
+        CHECK_OK(cont_set_newton(s, 1e-10, 12, KIN_NONE), s);
+        double y0[2] = {0.0, 0.0};
+        const char *m = run_to_dsmin(s, y0, 1.0, "anchored floor", nan);
+        long np = cont_num_points(s);
+        CHECK_CLOSE(cont_point_at(s, np - 1)->p, 0.5, 1e-5);
+        if (nan) {
+            CHECK_TRUE(!strstr(m, "diagnosis"), "a NaN failure diagnosed: %s", m);
+            cont_free(s);
+            continue;
+        }
+        CHECK_TRUE(strstr(m, "diagnosis") &&
+                   strstr(m, "anchored corrector at its iteration limit") &&
+                   strstr(m, "not a turning point") && strstr(m, "Newton tolerance above"),
+                   "no diagnosis of the anchored floor: %s", m);
+        CHECK_TRUE(!strstr(m, "then diverged"), "called a divergence: %s", m);
+        /* the residual range is the floor, 2a, and points came in between */
+        int na = 0;
+        long pts = -1;
+        double lo = 0, hi = 0;
+        const char *q = strstr(m, "the last ");
+        CHECK_TRUE(q && sscanf(q, "the last %d failed attempts", &na) == 1 && na >= 3, "%s", m);
+        q = strstr(m, "ds_min, ");
+        CHECK_TRUE(q && sscanf(q, "ds_min, %ld points accepted", &pts) == 1 && pts >= 1, "%s",
+                   m);
+        q = strstr(m, "scaled residual of ");
+        CHECK_TRUE(q && sscanf(q, "scaled residual of %lf to %lf", &lo, &hi) == 2, "%s", m);
+        CHECK_TRUE(0 < lo && lo <= hi && 1e-10 < hi && hi < 2e-10, "lo %g hi %g", lo, hi);
         cont_free(s);
     }
 }
@@ -762,6 +849,7 @@ int main(void)
         cmocka_unit_test(test_bratu_klu_vs_dense),
         cmocka_unit_test(test_failure_diagnosis),
         cmocka_unit_test(test_divergence_diagnosis),
+        cmocka_unit_test(test_anchored_floor_diagnosis),
         cmocka_unit_test(test_stop_rules),
         cmocka_unit_test(test_bad_input),
     };

@@ -104,9 +104,13 @@ static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, d
     }
     free(y0);
     if (r->failed) return err->code;
-    if (rc == CONT_FAIL)
+    if (rc == CONT_FAIL) {
+        /* the keys of the remedies a diagnosis names */
+        const char *m = cont_errmsg(cs);
         return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: %s%s", s->path, r->npoints,
-                       cont_errmsg(cs), strstr(cont_errmsg(cs), "residual floor") ? " (solver.tolerance)" : "");
+                       m, strstr(m, "e.g. a penalty") ? " (solver.tolerance, solver.constraints)"
+                          : strstr(m, "residual floor") ? " (solver.tolerance)" : "");
+    }
     if (r->flat_sw && flat_switch(r)) return err->code;
     return sf_bif_switch(&r->bif, cs, err);
 }
