@@ -28,14 +28,20 @@
 #     of 110 that the K run, 102, is not) keeps the K run's choices;
 #  9: the 2x2 sheet under gravity and a tip load (bench/miura-study.sh 2
 #     load 1): the fold formulation's flat start (the choice below the
-#     threshold) finds no first point, so the run goes again with the
-#     sparse pose start and reaches p = 1 (exit 0), its header and
-#     study.cfg say so; with solver.formulation = "folds" set there is no
-#     second run, and the message names the pose start first (exit 3).
+#     threshold) follows the degenerate ray of the straight fold lines to
+#     p = 1 (exit 0, no second run, folds/limit/sum in study.cfg) and ends
+#     where the sparse pose start's run ends (tip uz to 1e-7 m, fold angles
+#     to 5e-6 rad; docs/flatstart.md, "Limits");
+# 10: a sheet whose fold start finds no first point (pattern miura
+#     --cells=3x2 --gravity --load=0.01, rest angles 0): the run goes again
+#     with the sparse pose start and reaches the end of its path, p = 2
+#     (exit 0), its header and study.cfg say so; with solver.formulation =
+#     "folds" set there is no second run, and the message names the pose
+#     start first (exit 3).
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 . "$src/tests/tap.sh"
-echo "1..9"
+echo "1..10"
 check() { if [ "$1" = 1 ]; then ok "$2"; else nok "$2"; fi; }
 sh "$src/bench/miura-study.sh" 2 actuation 1 >"$tmp/m2.cfg"
 run() {   # run NAME [SETTING...]: exit status
@@ -127,17 +133,43 @@ r=0
     ! grep -q '^# auto' "$tmp/conv/kplus1/branch.tsv" && r=1
 check $r "convergence: the K+1 run (126 unknowns, threshold 110) keeps folds/limit/sum (exit $a; study.cfg: $k)"
 
-# 9: a failed fold start chosen by auto is run again with the sparse pose
-# start; one set by hand names it
+# 9: the 2x2 sheet under gravity and a tip load: the fold start follows
+# the degenerate ray and ends at the pose run's state
 sh "$src/bench/miura-study.sh" 2 load 1 >"$tmp/m2l.cfg"
-"$bin" run "$tmp/m2l.cfg" -q -o "$tmp/m2l" >"$tmp/m2l.out" 2>&1
+"$bin" run "$tmp/m2l.cfg" -q -o "$tmp/m2l" --set output.shapes=0 >"$tmp/m2l.out" 2>&1
 a=$?
-pend=$(grep -v '^#' "$tmp/m2l/branch.tsv" 2>/dev/null | tail -n 1 | cut -f 4)
+"$bin" run "$tmp/m2l.cfg" -q -o "$tmp/m2lp" --set output.shapes=0 $poses >"$tmp/m2lp.out" 2>&1
+b=$?
 k=$(keys "$tmp/m2l")
-"$bin" run "$tmp/m2l.cfg" -q -o "$tmp/m2lf" --set solver.formulation='"folds"' >"$tmp/m2lf.out" 2>&1
+d=$(awk -F '\t' 'FNR == 1 {f++; h = 0} /^#/ {next} !h {for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next}
+        {last[f] = $0}
+        END {n = split(last[1], x, "\t"); split(last[2], y, "\t");
+             du = x[c["probe1_uz"]] - y[c["probe1_uz"]]; du = du < 0 ? -du : du; dt = 0;
+             for (j in c) if (j ~ /^theta/) { e = x[c[j]] - y[c[j]]; e = e < 0 ? -e : e; if (e > dt) dt = e }
+             printf "%s %s %.3g %.3g", x[c["p"]], y[c["p"]], du, dt}' \
+     "$tmp/m2l/branch.tsv" "$tmp/m2lp/branch.tsv" 2>/dev/null)
+set -- $d
+r=0
+[ "$a" = 0 ] && [ "$b" = 0 ] && [ "$k" = "folds limit sum" ] && [ "$1" = 1 ] && [ "$2" = 1 ] &&
+    ! grep -q '^# auto' "$tmp/m2l/branch.tsv" &&
+    grep -q '^# flat start: the driving.s branch is a degenerate ray of the tangent cone' "$tmp/m2l/branch.tsv" &&
+    awk -v u="$3" -v t="$4" 'BEGIN {exit !(u <= 1e-7 && t <= 5e-6)}' && r=1
+check $r "2x2 under gravity and a tip load: the fold start (degenerate ray) reaches p = $1 (exit $a; study.cfg: $k), the pose run p = $2 (exit $b); tip uz $3 m, fold angles $4 rad apart"
+
+# 10: a failed fold start chosen by auto is run again with the sparse pose
+# start; one set by hand names it
+"$bin" pattern miura --cells=3x2 --gravity --load=0.01 -o "$tmp/m32.gen.cfg" >/dev/null 2>&1
+sed 's/^\(  { name = "[a-z0-9]*"; rest_angle = \)-\{0,1\}[0-9.]*;/\10.0;/' "$tmp/m32.gen.cfg" >"$tmp/m32l.cfg"
+"$bin" run "$tmp/m32l.cfg" -q -o "$tmp/m32l" --set output.shapes=0 --set analysis.stability=false \
+    >"$tmp/m32l.out" 2>&1
+a=$?
+pend=$(grep -v '^#' "$tmp/m32l/branch.tsv" 2>/dev/null | tail -n 1 | cut -f 4)
+k=$(keys "$tmp/m32l")
+"$bin" run "$tmp/m32l.cfg" -q -o "$tmp/m32lf" --set output.shapes=0 --set analysis.stability=false \
+    --set solver.formulation='"folds"' >"$tmp/m32lf.out" 2>&1
 b=$?
 r=0
-[ "$a" = 0 ] && [ "$pend" = 1 ] && [ "$k" = "poses sparse sum" ] &&
-    grep -q '^# auto: the fold formulation.s flat start found no first point; run again with solver.formulation = "poses", analysis.flat_start = "sparse" (it said: .*off the flat state in the fold formulation (limit start' "$tmp/m2l/branch.tsv" &&
-    [ "$b" = 3 ] && grep -q 'off the flat state in the fold formulation (another start to try: solver.formulation = "poses", analysis.flat_start = "sparse")' "$tmp/m2lf.out" && r=1
-check $r "2x2 under gravity and a tip load: auto runs it again with the sparse pose start, to p = $pend (exit $a; study.cfg: $k); folds set by hand: exit $b naming that start"
+[ "$a" = 0 ] && [ "$pend" = 2 ] && [ "$k" = "poses sparse sum" ] &&
+    grep -q '^# auto: the fold formulation.s flat start found no first point; run again with solver.formulation = "poses", analysis.flat_start = "sparse" (it said: .*off the flat state in the fold formulation (limit start' "$tmp/m32l/branch.tsv" &&
+    [ "$b" = 3 ] && grep -q 'off the flat state in the fold formulation (another start to try: solver.formulation = "poses", analysis.flat_start = "sparse")' "$tmp/m32lf.out" && r=1
+check $r "3x2 under gravity and a tip load: auto runs it again with the sparse pose start, to p = $pend (exit $a; study.cfg: $k); folds set by hand: exit $b naming that start"

@@ -11,8 +11,8 @@
 # of higher energy (the first and last zigzag columns flat); the start
 # from the rigid vertex modes finds the uniform Miura motion, lower, and
 # the start follows the lowest limit state it found (test 7).
-# Under gravity and a tip load (where the dense cone start finds no
-# branch) and on an 8x8 sheet (first point only) every interior vertex
+# Under gravity and a tip load (where the dense cone start needs the
+# degenerate ray of its descent) and on an 8x8 sheet (first point only) every interior vertex
 # obeys the closed form of a rigid flat-foldable degree-4 vertex
 # (docs/crease-limit.md; mode II: tan(rho_s/2) = cos(gamma) tan(rho_z/2),
 # zigzag pair equal, straight pair opposite; or mode I: zigzag pair flat,

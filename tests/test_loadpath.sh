@@ -25,7 +25,8 @@ col() { awk -F'\t' -v c="$2" '/^#/ {next} !h {for (k = 1; k <= NF; k++) if ($k =
 echo "1..9"
 sh "$src/bench/miura-study.sh" 2 load 1 >"$tmp/m.cfg"
 # the formulation's options: poses with the sparse start, folds with the
-# direct start (the dense cone start finds no branch under this load)
+# direct start (the dense cone start follows a degenerate ray under this
+# load: tests/test_auto_keys.sh, case 9)
 opts() {
     if [ "$1" = poses ]; then set -- --set 'solver.formulation="poses"' --set 'analysis.flat_start="sparse"'
     else set -- --set 'analysis.flat_start="direct"' --set analysis.max_steps=100000; fi

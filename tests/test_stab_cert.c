@@ -16,7 +16,11 @@
  *   minimum on the constraint set, which the certificate (a self-stress
  *   making Z^T HL Z positive definite) claims;
  * - with the certificate the dense method says stable, Morse index 0 (no
- *   eigenvalues: the certificate's depend on the self-stress). */
+ *   eigenvalues: the certificate's depend on the self-stress).
+ * And the search on its own (sf_stab_cert_search) on small matrices whose
+ * answer is known in closed form: one the local ascent cannot certify
+ * and the semidefinite program (DSDP) does, and two that no self-stress
+ * certifies, with the largest smallest eigenvalue t* = -1 and 0. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -231,11 +235,102 @@ static void test_waterbomb_certificate(void **state)
     sf_scene_close(&sc);
 }
 
+/* Smallest eigenvalue of H0 + sum mu_k A_k (d x d), computed here. */
+static double lmin_at(int d, int k, const double *H0, const double *A, const double *mu)
+{
+    double H[16], ev[4], W[64];
+    int lw = 64, info;
+    for (int i = 0; i < d * d; i++) {
+        H[i] = H0[i];
+        for (int q = 0; q < k; q++) H[i] += mu[q] * A[q * d * d + i];
+    }
+    dsyev_("N", "U", &d, H, &d, ev, W, &lw, &info);
+    assert_int_equal(info, 0);
+    return ev[0];
+}
+
+/* H0 = diag(-1, 1e-10), A_1 = diag(1, 0), A_2 = diag(0, 1): mu = (2, 1)
+ * gives diag(1, 1 + 1e-10), positive definite.  The ascent aims at tau,
+ * the smallest positive eigenvalue at mu = 0 (1e-10), which lies below the
+ * margin (1e-8 of the largest, 1e-8): it lifts -1 to 1e-10 and stalls.
+ * The SDP: max t with mu_1 - 1 >= t, mu_2 + 1e-10 >= t, |mu| <= R (R =
+ * 1e6 emax / amax = 1e6), optimum on the circle at mu_1 - 1 = mu_2 + 1e-10:
+ * t* = (-(a + b) + sqrt(2 R^2 - (a - b)^2)) / 2, a = 1, b = -1e-10. */
+static void test_search_sdp_certifies(void **state)
+{
+    (void)state;
+    double H0[4] = {-1.0, 0.0, 0.0, 1e-10};
+    double A[8] = {1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
+    double mu[2], mu0[2] = {2.0, 1.0};
+    assert_true(lmin_at(2, 2, H0, A, mu0) > 0.99); /* the closed-form certificate */
+    sf_cert_search o;
+    assert_int_equal(sf_stab_cert_search(2, 2, H0, A, mu, &o), 0);
+    double R = 1e6, a = 1.0, b = -1e-10, ts = (-(a + b) + sqrt(2.0 * R * R - (a - b) * (a - b))) / 2.0;
+    print_message("# found %d (2: by the SDP), bound %g, mu (%.6g, %.6g), lmin %.9g, DSDP t %.9g, "
+                  "upper bound %.9g, t* %.9g\n", o.found, o.bound, mu[0], mu[1], o.lmin, o.t_lo,
+                  o.t_up, ts);
+    assert_int_equal(o.found, SF_CERT_SDP); /* the ascent did not */
+    assert_int_equal(o.sdp_ran, 1);
+    CHECK_CLOSE(o.bound, R, 1e-12 * R, "the bound 1e6 emax / amax");
+    double l = lmin_at(2, 2, H0, A, mu);
+    CHECK_CLOSE(l, o.lmin, 1e-9 * fabs(o.lmin), "the certificate's eigenvalue, recomputed");
+    assert_true(l > o.margin);
+    assert_true(mu[0] * mu[0] + mu[1] * mu[1] <= R * R * (1.0 + 1e-9));
+    CHECK_LE(o.lmin, ts * (1.0 + 1e-12), "no eigenvalue above t*");
+    CHECK_LE(ts, o.t_up * (1.0 + 1e-12), "the upper bound from X is one");
+    CHECK_CLOSE(o.lmin, ts, 1e-6 * ts, "DSDP's optimum, to its accuracy");
+}
+
+/* H0 = diag(1, -3), A_1 = diag(1, -1), A_2 = [0 1; 1 0]: the eigenvalues
+ * of H0 + mu_1 A_1 + mu_2 A_2 are -1 +- sqrt((2 + mu_1)^2 + mu_2^2), the
+ * smallest at most -1, equal at mu = (-2, 0) (inside the bound): t* = -1,
+ * no self-stress makes it positive definite. */
+static void test_search_none(void **state)
+{
+    (void)state;
+    double H0[4] = {1.0, 0.0, 0.0, -3.0};
+    double A[8] = {1.0, 0.0, 0.0, -1.0, 0.0, 1.0, 1.0, 0.0};
+    double mu[2];
+    sf_cert_search o;
+    assert_int_equal(sf_stab_cert_search(2, 2, H0, A, mu, &o), 0);
+    print_message("# found %d, bound %g, mu (%.9g, %.3g), lmin %.12g, DSDP t %.12g, upper "
+                  "bound %.12g (t* = -1)\n", o.found, o.bound, mu[0], mu[1], o.lmin, o.t_lo, o.t_up);
+    assert_int_equal(o.found, SF_CERT_NONE);
+    assert_int_equal(o.sdp_ran, 1);
+    CHECK_CLOSE(o.bound, 1e6 * 3.0 / sqrt(2.0), 1e-12 * 1e6 * 3.0 / sqrt(2.0), "the bound 1e6 emax / amax");
+    CHECK_LE(o.lmin, -1.0 + 1e-12, "an eigenvalue at a self-stress: not above t*");
+    CHECK_LE(-1.0 - 1e-12, o.t_up, "the upper bound from X: not below t*");
+    CHECK_LE(o.t_up, -1.0 + 1e-6, "the upper bound, to DSDP's accuracy");
+    CHECK_LE(-1.0 - 1e-6, o.lmin, "DSDP's self-stress, to its accuracy");
+    CHECK_LE(fabs(mu[0] + 2.0) + fabs(mu[1]), 1e-3, "the optimum mu = (-2, 0)");
+}
+
+/* H0 = diag(1, -1), A_1 = diag(1, -1): the smallest eigenvalue is
+ * min(1 + mu, -1 - mu), at most 0 (mu = -1): t* = 0, semidefinite at best,
+ * never positive definite. */
+static void test_search_semidefinite(void **state)
+{
+    (void)state;
+    double H0[4] = {1.0, 0.0, 0.0, -1.0}, A[4] = {1.0, 0.0, 0.0, -1.0}, mu[1];
+    sf_cert_search o;
+    assert_int_equal(sf_stab_cert_search(2, 1, H0, A, mu, &o), 0);
+    print_message("# found %d, mu %.9g, lmin %.3g, DSDP t %.3g, upper bound %.3g (t* = 0)\n",
+                  o.found, mu[0], o.lmin, o.t_lo, o.t_up);
+    assert_int_equal(o.found, SF_CERT_NONE);
+    assert_int_equal(o.sdp_ran, 1);
+    CHECK_LE(o.lmin, 1e-12, "an eigenvalue at a self-stress: not above t*");
+    CHECK_LE(-1e-12, o.t_up, "the upper bound from X: not below t*");
+    CHECK_LE(o.t_up, 1e-6, "the upper bound, to DSDP's accuracy");
+}
+
 int main(void)
 {
     const char *src = getenv("SF_SRCDIR");
     snprintf(tests_dir, sizeof tests_dir, "%s/tests/studies", src ? src : SF_SRCDIR);
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_search_sdp_certifies),
+        cmocka_unit_test(test_search_none),
+        cmocka_unit_test(test_search_semidefinite),
         cmocka_unit_test(test_waterbomb_certificate),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -36,7 +36,10 @@
  * work (cone_ascend: projected gradient in the A metric), and from rays
  * given by the caller (sf_cone_find_rays).  A ray on which step 4 fails
  * while the driving does work on it is degenerate (flatcone.h): kept
- * apart, with its energy.
+ * apart, with its energy.  When nothing else is found, so is the end of
+ * the descent from the driving's response if it reached EPS_MIN next to
+ * the cone without multipliers (the miura 2x2 sheet under gravity and a
+ * tip load: docs/flatstart.md).
  */
 #include "flatcone.h"
 #include "flatcone_impl.h"
@@ -521,21 +524,25 @@ static int pen_min(const red *R, double *x, double eps, int *sign, int *saddle, 
 }
 
 #define EPS_MIN 1e-10
+#define DESCENT_DEG_TOL 1e-6  /* |x^T Q x| / 2 (x^T A x = 1) at the end of a descent
+                               * kept as a degenerate ray */
 #define MAX_RUNS 8
 
 /* One descent from x at level eps0 down to EPS_MIN, then the exact
  * reduced Newton; v receives (x, nu).  0 when it reached a solution. */
 static int descend(const red *R, double *x, double eps0, int sign, int *saddle, double *sx,
                    double *sv, double *seps, double *v, dwork *w, double *F, double *Jm,
-                   double *d, double *vt)
+                   double *d, double *vt, int *bottom)
 {
     int k = R->k, r = R->r;
+    *bottom = 0;
     for (double eps = eps0; eps >= EPS_MIN * 0.999; eps *= 0.1) {
         int had = *saddle;
         int rc = pen_min(R, x, eps, &sign, saddle, sx, sv, w);
         if (*saddle && !had) *seps = eps;
         if (rc < 0) return -1;
         if (rc) break;
+        *bottom = eps < EPS_MIN * 1.001;
         if (eps <= 1e-4) {
             /* polish with the exact reduced problem, nu_t = h_t / eps */
             memcpy(v, x, sizeof(double) * (size_t)k);
@@ -605,6 +612,7 @@ int sf_cone_find_rays(const sf_limit *L, int nstarts, const double *zextra, cons
     double *stx = malloc(sizeof(double) * ((size_t)MAX_RUNS * k + 1));
     double *stv = malloc(sizeof(double) * ((size_t)MAX_RUNS * k + 1));
     double *steps = malloc(sizeof(double) * ((size_t)MAX_RUNS + 1));
+    double *xdeg = malloc(sizeof(double) * ((size_t)k + 1));
     w.g = malloc(sizeof(double) * (size_t)m);
     w.H = malloc(sizeof(double) * ((size_t)k * k + 1));
     w.ev = malloc(sizeof(double) * (size_t)m);
@@ -612,7 +620,7 @@ int sf_cone_find_rays(const sf_limit *L, int nstarts, const double *zextra, cons
     w.xt = malloc(sizeof(double) * (size_t)m);
     w.tmp = malloc(sizeof(double) * (size_t)m);
     if (!x || !x0 || !v || !F || !Jm || !d || !vt || !sols || !en || !stx || !stv || !steps ||
-        !w.g || !w.H || !w.ev || !w.d || !w.xt || !w.tmp)
+        !xdeg || !w.g || !w.H || !w.ev || !w.d || !w.xt || !w.tmp)
         goto done;
     int ns = 0;
     if (k == 0 || c->bnorm == 0.0) { rc = 0; goto done; }
@@ -650,6 +658,7 @@ int sf_cone_find_rays(const sf_limit *L, int nstarts, const double *zextra, cons
         if (!nr) ns = add_sol(&R, v, a0, sols, en, ns, nmax, &c->ncone, d, w.tmp);
     }
     unsigned long long st = 0x5eedf1a7ULL;
+    int havedeg = 0;
     /* runs: from x0 (and the other side of every saddle met), then from
      * nstarts - 1 pseudo-random starts of the same amplitude */
     int nst = 0, runs = 0;
@@ -667,9 +676,15 @@ int sf_cone_find_rays(const sf_limit *L, int nstarts, const double *zextra, cons
             double seps = eps0;
             double *sx = stx + (size_t)(nst < MAX_RUNS ? nst : MAX_RUNS - 1) * k;
             double *sv = stv + (size_t)(nst < MAX_RUNS ? nst : MAX_RUNS - 1) * k;
-            int dr = descend(&R, x, eps0, sign, &saddle, sx, sv, &seps, v, &w, F, Jm, d, vt);
+            int bottom = 0;
+            int dr = descend(&R, x, eps0, sign, &saddle, sx, sv, &seps, v, &w, F, Jm, d, vt,
+                             &bottom);
             runs++;
             if (dr < 0) goto done;
+            if (dr && bottom && start == 0 && !havedeg) {
+                memcpy(xdeg, x, sizeof(double) * (size_t)k);
+                havedeg = 1;
+            }
             if (saddle && start == 0 && nst < MAX_RUNS) steps[nst++] = seps;
             if (!dr) ns = add_sol(&R, v, a0, sols, en, ns, nmax, &c->ncone, d, w.tmp);
             /* the other side of the saddles met on the way from x0 */
@@ -684,7 +699,7 @@ int sf_cone_find_rays(const sf_limit *L, int nstarts, const double *zextra, cons
      * work: the descent above follows the driving's response and can end
      * at the flat state where the best rays lie far from it (a waterbomb
      * tessellation, whose cone is a union of many-dimensional pieces) */
-    c->degcap = (nrays > 0 ? nrays : 0) + ASCENT_STARTS;
+    c->degcap = (nrays > 0 ? nrays : 0) + ASCENT_STARTS + 1;
     c->degu = calloc((size_t)c->degcap * L->nq + 1, sizeof(double));
     c->degen = calloc((size_t)c->degcap + 1, sizeof(double));
     if (!c->degu || !c->degen) goto done;
@@ -692,6 +707,22 @@ int sf_cone_find_rays(const sf_limit *L, int nstarts, const double *zextra, cons
         goto done;
     if (r > 0 && sf_fc_cone_search(&R, a0, sols, en, &ns, nmax, c, v, F, Jm, d, vt, &st) < 0)
         goto done;
+    if (ns == 0 && c->ndeg == 0 && havedeg && r > 0) {
+        /* nothing else: the descent from the driving's response went down
+         * to EPS_MIN next to the cone, but the reduced Newton found no
+         * multipliers there (they grow as eps falls): a degenerate ray */
+        anormalise(&R, xdeg, w.tmp);
+        double hm = 0.0;
+        for (int t = 0; t < r; t++) {
+            matvec(k, R.Q + (size_t)t * k * k, xdeg, w.tmp);
+            hm = fmax(hm, fabs(0.5 * dot(k, xdeg, w.tmp)));
+        }
+        double wk = dot(k, R.b, xdeg);
+        if (hm <= DESCENT_DEG_TOL && wk < 0.0) {
+            c->ncone++;
+            sf_fc_deg_add(&R, xdeg, wk, c);
+        }
+    }
     /* sort by energy (insertion) */
     int *ord = malloc(sizeof(int) * ((size_t)ns + 1));
     if (!ord) goto done;
@@ -718,7 +749,7 @@ int sf_cone_find_rays(const sf_limit *L, int nstarts, const double *zextra, cons
     rc = 0;
 done:
     free(x); free(x0); free(v); free(F); free(Jm); free(d); free(vt); free(sols); free(en);
-    free(stx); free(stv); free(steps);
+    free(stx); free(stv); free(steps); free(xdeg);
     free(w.g); free(w.H); free(w.ev); free(w.d); free(w.xt); free(w.tmp); free(w.work);
     red_free(&R);
     if (rc) sf_cone_free(c);

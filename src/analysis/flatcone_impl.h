@@ -37,4 +37,7 @@ int sf_fc_rays_add(const sf_limit *L, const red *R, const double *rays, int nray
                    double *sols, double *en, int *ns, int nmax, sf_cone *c, double *v, double *F,
                    double *Jm, double *d, double *vt, double *tmp);
 
+/* Keep the ray x (unit A norm, w = b . x < 0) as a degenerate one of c
+ * unless it is there already (flatcone_rays.c). */
+void sf_fc_deg_add(const red *R, const double *x, double w, sf_cone *c);
 #endif

@@ -122,7 +122,7 @@ static int ray_polish(const red *R, const double *x, double *v, double *F, doubl
 
 /* Keep the ray x (unit A norm, w = b . x < 0) as a degenerate one of c
  * (capacity c->degcap) unless it is there already. */
-static void deg_add(const red *R, const double *x, double w, sf_cone *c)
+void sf_fc_deg_add(const red *R, const double *x, double w, sf_cone *c)
 {
     int k = R->k, nq = R->nq;
     if (c->ndeg >= c->degcap) return;
@@ -186,7 +186,7 @@ int sf_fc_cone_search(const red *R, double a0, double *sols, double *en, int *ns
             /* the ascent ended at a corner of the cone, where the limit
              * problem has no solution: a degenerate ray */
             c->ncone++;
-            deg_add(R, x, sf_fc_dot(k, R->b, x), c);
+            sf_fc_deg_add(R, x, sf_fc_dot(k, R->b, x), c);
         }
     }
     rc = 0;
@@ -225,7 +225,7 @@ int sf_fc_rays_add(const sf_limit *L, const red *R, const double *rays, int nray
             /* degenerate: the driving pushes along a direction that the
              * cone blocks at higher order; kept at its best amplitude */
             c->ncone++;
-            deg_add(R, x, w, c);
+            sf_fc_deg_add(R, x, w, c);
         }
     }
     free(x);

@@ -163,6 +163,34 @@ static void lw_free(lim_ws *w)
     free(w->v0);
 }
 
+/* One constraint row r of gx_rows: its nv local columns (w->col, -1 =
+ * not an unknown) from triplet index k, the entries x^T G_r (H: the
+ * row's nv x nv Hessian) and x^T G_r x / 2 into qr[r].  Returns the next
+ * index. */
+static long gx_row(lim_ws *w, const double *x, long k, int record, int row, int nv,
+                   const double *H)
+{
+    double qv = 0.0;
+    for (int a = 0; a < nv; a++) {
+        if (w->col[a] < 0) continue;
+        if (record) {
+            w->r[k] = w->n + w->nx + row;
+            w->c[k] = w->col[a];
+            w->src[k] = -3;
+        }
+        if (x) {
+            double v = 0.0;
+            for (int bb = 0; bb < nv; bb++)
+                if (w->col[bb] >= 0) v += H[a * nv + bb] * x[w->col[bb]];
+            w->gx[k - w->nl] = v;
+            qv += 0.5 * v * x[w->col[a]];
+        }
+        k++;
+    }
+    if (x) w->qr[row] = qv;
+    return k;
+}
+
 /* The entries of [Gx] (the rows x^T G_r of the constraint rows r, local
  * columns) from index k of the triplets (record: their positions), and
  * x^T G_r x / 2 into qr.  x NULL: pattern only (returns the end index).
@@ -173,7 +201,6 @@ static long gx_rows(lim_ws *w, const double *x, long k, int record)
 {
     sf_equil *q = w->q;
     const sf_model *m = q->m;
-    int nx = w->nx;
     long ho = 0;
     int fill = x && !w->hc_filled;
     if (fill) {
@@ -197,28 +224,11 @@ static long gx_rows(lim_ws *w, const double *x, long k, int record)
             int row = sf_peq_fold_row(q, 6 * i + cc);   /* -1: dropped */
             double lam[6] = {0, 0, 0, 0, 0, 0};
             lam[cc] = 1.0;
-            double qv = 0.0;
             const double *H = w->hc ? w->hc + ho : NULL;
             if (fill) sf_poses_fold_rows(&w->P, w->y0, i, g, w->dg, lam, w->hc + ho, w->work);
             ho += (long)nv * nv;
             if (row < 0) continue;
-            for (int a = 0; a < nv; a++) {
-                if (w->col[a] < 0) continue;
-                if (record) {
-                    w->r[k] = w->n + nx + row;
-                    w->c[k] = w->col[a];
-                    w->src[k] = -3;
-                }
-                if (x) {
-                    double v = 0.0;
-                    for (int bb = 0; bb < nv; bb++)
-                        if (w->col[bb] >= 0) v += H[a * nv + bb] * x[w->col[bb]];
-                    w->gx[k - w->nl] = v;
-                    qv += 0.5 * v * x[w->col[a]];
-                }
-                k++;
-            }
-            if (x) w->qr[row] = qv;
+            k = gx_row(w, x, k, record, row, nv, H);
         }
     }
     for (int s = 0; s < q->nsup; s++) {
@@ -227,27 +237,10 @@ static long gx_rows(lim_ws *w, const double *x, long k, int record)
         int nv = sf_poses_point_vars(&w->P, pt->face, pt->fold, w->col);
         double xo[3], wt[3] = {0, 0, 0};
         wt[cc] = 1.0;
-        double qv = 0.0;
         const double *H = w->hc ? w->hc + ho : NULL;
         if (fill) sf_poses_mpoint(&w->P, w->y0, pt, xo, w->dg, wt, w->hc + ho, w->work);
         ho += (long)nv * nv;
-        for (int a = 0; a < nv; a++) {
-            if (w->col[a] < 0) continue;
-            if (record) {
-                w->r[k] = w->n + nx + row;
-                w->c[k] = w->col[a];
-                w->src[k] = -3;
-            }
-            if (x) {
-                double v = 0.0;
-                for (int bb = 0; bb < nv; bb++)
-                    if (w->col[bb] >= 0) v += H[a * nv + bb] * x[w->col[bb]];
-                w->gx[k - w->nl] = v;
-                qv += 0.5 * v * x[w->col[a]];
-            }
-            k++;
-        }
-        if (x) w->qr[row] = qv;
+        k = gx_row(w, x, k, record, row, nv, H);
     }
     if (fill) w->hc_filled = 1;
     return k;

@@ -368,7 +368,15 @@ done:
     return rc;
 }
 
-double sf_limit_solve(const sf_limit *Lp, double *z, int maxit, int *iters)
+/* The eps homotopy (sf_limit_solve); with stall > 0 it also stops when
+ * stall levels in a row have failed since eps last fell by a factor of
+ * 10, i.e. where the back-off only creeps (a degenerate ray of the cone,
+ * whose multipliers grow as eps falls: the miura 2x2 sheet under gravity
+ * and a tip load crept from eps = 1e-9 to about 1.7e-10 in 10961
+ * iterations of its 20000; docs/flatstart.md);
+ * *stalled (when not NULL) then receives the last eps that converged. */
+static double limit_solve(const sf_limit *Lp, double *z, int maxit, int *iters, int stall,
+                          double *stalled)
 {
     const limit_problem L = *Lp;
     int n = L.n;
@@ -390,8 +398,9 @@ double sf_limit_solve(const sf_limit *Lp, double *z, int maxit, int *iters)
      * 10 per level down to 1e-12, then set to 0.  Newton with
      * minimum-norm steps and backtracking on the max-norm of the residual
      * at each level, from the previous level's solution. */
-    int it = 0, total = 0;
-    double en = 0.0, eps = 1.0, eps_ok = -1.0;
+    int it = 0, total = 0, nfail = 0;
+    double en = 0.0, eps = 1.0, eps_ok = -1.0, eps_mark = -1.0;
+    if (stalled) *stalled = -1.0;
     for (int level = 0; level < 200 && total < maxit; level++) {
         memcpy(zt, z, sizeof(double) * (size_t)n);
         int conv = 0;
@@ -424,11 +433,19 @@ double sf_limit_solve(const sf_limit *Lp, double *z, int maxit, int *iters)
         if (conv) {
             memcpy(z, zt, sizeof(double) * (size_t)n);
             eps_ok = eps;
+            if (eps_mark < 0.0 || eps_ok <= 0.1 * eps_mark) {
+                eps_mark = eps_ok;
+                nfail = 0;
+            }
             if (eps == 0.0) break;
             eps = eps <= 1.001e-12 ? 0.0 : eps * 0.1;
         } else {
             /* back off towards the last level that converged */
             if (eps_ok < 0 || eps == eps_ok) break;
+            if (stall > 0 && ++nfail >= stall) {
+                if (stalled) *stalled = eps_ok;
+                break;
+            }
             if (eps == 0.0) eps = eps_ok * 1e-2;
             else eps = sqrt(eps * eps_ok);
             if (eps_ok / eps < 1.01) break;
@@ -440,8 +457,14 @@ double sf_limit_solve(const sf_limit *Lp, double *z, int maxit, int *iters)
     return en;
 }
 
+double sf_limit_solve(const sf_limit *Lp, double *z, int maxit, int *iters)
+{
+    return limit_solve(Lp, z, maxit, iters, 0, NULL);
+}
+
 #define CONE_STARTS 1      /* starts of the search on the tangent cone */
 #define HOMOTOPY_SHORT 2000 /* Newton iterations of the homotopy as a candidate */
+#define HOMOTOPY_STALL 5    /* failed levels without a decade of eps: the homotopy creeps */
 
 /* Rays of the tangent cone selected by the crease assignment: the
  * branches of the limit problem driven towards fold angles +1 (valley
@@ -479,7 +502,7 @@ static int assignment_rays(sf_equil *q, const sf_limit *L, double **rays)
         }
         sf_limit Lv = *L;
         Lv.gp = gv;
-        double ev = sf_limit_solve(&Lv, zv, HOMOTOPY_SHORT, NULL);
+        double ev = limit_solve(&Lv, zv, HOMOTOPY_SHORT, NULL, HOMOTOPY_STALL, NULL);
         sf_cone Cv;
         if (ev >= 0 && sf_cone_find(&Lv, CONE_STARTS, ev <= LIMIT_TOL * 1e3 ? zv : NULL, &Cv) == 0) {
             *rays = malloc(sizeof(double) * ((size_t)(Cv.nb + 1) * nq));
@@ -515,7 +538,7 @@ static int cone_start(sf_equil *q, const sf_limit *L, int pick, double *z, doubl
      * may miss (miura-2x2's lowest) */
     double *zh = calloc((size_t)L->n + 1, sizeof(double));
     if (!zh) return sf_fail(err, SF_ENOMEM, "out of memory");
-    double eh = sf_limit_solve(L, zh, HOMOTOPY_SHORT, NULL);
+    double eh = limit_solve(L, zh, HOMOTOPY_SHORT, NULL, HOMOTOPY_STALL, NULL);
     sf_cone C;
     const double *zx = eh >= 0 && eh <= LIMIT_TOL * 1e3 ? zh : NULL;
     int fr = sf_cone_find(L, CONE_STARTS, zx, &C);
@@ -561,11 +584,14 @@ static int cone_start(sf_equil *q, const sf_limit *L, int pick, double *z, doubl
                  "the branch has no regular limit; starting on the ray of lowest energy", C.k,
                  C.r, C.ndeg, C.ndeg == 1 ? "" : "s");
     } else if (C.k > 0 && C.ncone == 0) {
-        snprintf(note, sizeof note, "flat start: no branch on the tangent cone along the driving "
-                 "(%d first-order motions, %d independent second-order loop conditions on them; "
-                 "the search from the driving's response ends at the flat state): exact closure "
-                 "may lock the sheet at the flat state; try more fold modes (defaults.modes), "
-                 "another driving, or solver.constraints = \"penalty\"", C.k, C.r);
+        snprintf(note, sizeof note, "flat start: no branch found on the tangent cone along the "
+                 "driving (%d first-order motions, %d independent second-order loop conditions "
+                 "on them; the search from the driving's response ends at the flat state): the "
+                 "search is a local one, not a proof that exact closure locks the sheet (a start "
+                 "that fails is followed by a mobility check that names a locked sheet); other "
+                 "starts: solver.formulation = \"poses\" with analysis.flat_start = "
+                 "\"sparse\", more fold modes (defaults.modes), solver.constraints = "
+                 "\"penalty\"", C.k, C.r);
     } else if (C.nb == 0) {
         snprintf(note, sizeof note, "the driving does no first-order work on the %d-dimensional "
                  "tangent cone of the flat state (%d cone points found)", C.k, C.ncone);
@@ -665,14 +691,14 @@ int sf_equil_start_limit_branch(sf_equil *q, double p0, double p1, int branch, d
         goto done;
     }
     int it = 0;
-    double en = 2.0;
+    double en = 2.0, stall_eps = -1.0;
     rc = cone_start(q, &L, pick, z, &en, info, err);
     if (rc == SF_ENOMEM || rc == SF_EINPUT) goto done;
     rc = SF_OK;
     if (!(en <= LIMIT_TOL * 1e3)) {
         /* no branch on the cone (the driving acts at second order only,
          * e.g. in-plane loads): the eps homotopy */
-        en = sf_limit_solve(&L, z, 20000, &it);
+        en = limit_solve(&L, z, 20000, &it, HOMOTOPY_STALL, &stall_eps);
         if (en < 0) {
             rc = sf_fail(err, SF_ENOMEM, "out of memory");
             goto done;
@@ -685,8 +711,11 @@ int sf_equil_start_limit_branch(sf_equil *q, double p0, double p1, int branch, d
         info->second_order_rows = L.n2;
     }
     if (!(en <= LIMIT_TOL * 1e3)) {
+        char stall[120] = "";
+        if (stall_eps > 0.0)
+            snprintf(stall, sizeof stall, "; its eps homotopy stalled below eps = %.2g", stall_eps);
         rc = sf_fail(err, SF_ENUMERIC, "%s: the limit problem of the flat state does not converge "
-                     "(residual %.3g after %d iterations)%s%s", m->study->path, en, it,
+                     "(residual %.3g after %d iterations%s)%s%s", m->study->path, en, it, stall,
                      info && info->note[0] ? "; " : "", info ? info->note : "");
         goto done;
     }

@@ -15,9 +15,12 @@
  * condition holds with ANY valid multiplier: if Z^T HL(lambda + mu) Z is
  * positive definite for some mu in null(C^T), the point is a strict local
  * minimum of the energy on the constraint set.  This file looks for such a
- * mu (an ascent on the smallest eigenvalue over the k = ncon - r
- * self-stresses, k <= CERT_MAXK) when the dense method found a negative
- * eigenvalue at a point with redundant rows, and reports the point stable
+ * mu over the k = ncon - r self-stresses (k <= CERT_MAXK) when the dense
+ * method found a negative eigenvalue at a point with redundant rows: a
+ * local ascent on the smallest eigenvalue, then, where it stalls, the
+ * semidefinite program that maximises it over a ball of self-stresses
+ * (DSDP; the smallest eigenvalue is concave in mu, so that is the global
+ * maximum), every mu checked with LAPACK; it reports the point stable
  * (Morse index 0, no eigenvalues: they depend on mu) when one is found;
  * otherwise unknown (stable -1, with the reason), since the dense index
  * at the point's own multipliers is then no proof of instability.  Where the rows keep their rank the extra term is
@@ -30,6 +33,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <dsdp5.h>
+
 extern void dgesvd_(const char *jobu, const char *jobvt, const int *m, const int *n, double *a,
                     const int *lda, double *s, double *u, const int *ldu, double *vt,
                     const int *ldvt, double *work, const int *lwork, int *info);
@@ -40,6 +45,21 @@ extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, 
 #define ZERO_ROW 1e-13  /* as stability.c */
 #define CERT_MAXK 64    /* self-stresses tried at most */
 #define CERT_ITERS 60   /* ascent steps */
+/* The bound of the semidefinite program: |mu| <= CERT_RHO emax / amax
+ * (2-norm of the self-stress in unit-row scaling; emax the largest
+ * |eigenvalue| of H0, amax the largest Frobenius norm of the A_k).  emax /
+ * amax is the self-stress that moves the eigenvalues by as much as H0's
+ * largest, so the bound does not depend on units or on the scale of the
+ * rows; without one the program is unbounded wherever some combination of
+ * the A_k is positive definite.  Large self-stresses block the directions
+ * that the rows block at second order and leave H0 on the others, so the
+ * bound must be generous: on the 2x2 waterbomb tessellation CERT_RHO =
+ * 1e4 left 3 of its 37 points uncertified, 3e4 two and 1e5 none
+ * (docs/stability.md); 1e6 keeps a factor 10 in reserve.
+ * Round-off grows with the self-stress: a certificate must clear the
+ * margin plus a bound on LAPACK's error at its mu (cert_roundoff, 1e-6 at
+ * the largest self-stress of that path, against an eigenvalue of 0.0145). */
+#define CERT_RHO 1e6
 
 typedef struct {
     int nq, nc, d, k;
@@ -60,6 +80,26 @@ static int eig_at(cert *c, const double *mu, int vec)
     int info = 0;
     dsyev_(vec ? "V" : "N", "U", &c->d, c->H, &c->d, c->ev, c->wk, &c->lwk, &info);
     return info;
+}
+
+/* A bound on the error of the smallest eigenvalue that eig_at computes at
+ * mu: forming H0 + sum mu_k A_k costs (k + 1) eps of the summed norms, and
+ * dsyev is backward stable (an error of order d eps |M|); both estimated,
+ * generously, by 10 (d + k + 1) eps (|H0|_F + sum |mu_k| |A_k|_F): about
+ * 1e-13 of |H0|_F for the small self-stresses of the ascent, far below the
+ * margin (1e-8). */
+static double cert_roundoff(const cert *c, const double *mu)
+{
+    size_t dd = (size_t)c->d * c->d;
+    double s = 0.0, f = 0.0;
+    for (size_t i = 0; i < dd; i++) f += c->H0[i] * c->H0[i];
+    s = sqrt(f);
+    for (int q = 0; q < c->k; q++) {
+        f = 0.0;
+        for (size_t i = 0; i < dd; i++) f += c->A[(size_t)q * dd + i] * c->A[(size_t)q * dd + i];
+        s += fabs(mu[q]) * sqrt(f);
+    }
+    return 10.0 * (double)(c->d + c->k + 1) * 2.220446049250313e-16 * s;
 }
 
 /* Z^T M Z into out (d x d), M nq x nq. */
@@ -168,6 +208,203 @@ static int ascend(cert *c, double *mu, double tau, double margin, double *G, dou
     return lmin > margin;
 }
 
+/* The SDP, scaled: Hs = H0 / emax, As_k = A_k / amax, mu = y_k emax /
+ * amax, t = y_{k+1} emax.  DSDP's dual form, max b^T y with C - sum y_i A_i
+ * PSD: block 0 (d) C = Hs, A_i = -As_i, A_{k+1} = I; block 1 (k + 1)
+ * C = rho I, A_i = -(e_i e_{k+1}^T + e_{k+1} e_i^T), which is PSD iff
+ * |y_{1..k}| <= rho (Schur complement).  b = e_{k+1}.  On success (DSDP
+ * ran, whatever its stop reason): mu from its y, t_lo its dual objective
+ * times emax, and t_up, an upper bound of max lambda_min over the ball
+ * that holds for ANY PSD X of trace 1 (lambda_min(M) <= <M, X>, and
+ * <sum mu_k A_k, X> <= |mu| |(<A_k, X>)_k|): DSDP's block-0 X with its
+ * negative eigenvalues cut and its trace scaled to 1 (t_up stays INFINITY
+ * when DSDP gives no X).  Returns 0 when DSDP ran, else the error code of
+ * the DSDP call that failed (-1: out of memory). */
+static int sdp_solve(const cert *c, double emax, double amax, double *mu, double *t_lo,
+                     double *t_up)
+{
+    int d = c->d, k = c->k, m = k + 1, rc = 0;
+    size_t dd = (size_t)d * d, np = (size_t)d * (d + 1) / 2;
+    double rho = CERT_RHO, R = rho * emax / amax;
+    double *pk = malloc(sizeof(double) * (np * (size_t)(k + 1) + (size_t)m + 2 * dd + 4 * (size_t)d +
+                                          2 * (size_t)k + 8));
+    int *ind = malloc(sizeof(int) * ((size_t)k + 1));
+    if (!pk || !ind) {
+        free(pk); free(ind);
+        return -1;
+    }
+    /* y (m), X (d x d), W (dsyev's work, d x d + 3 d), xe (d), g (k), val (k) */
+    double *y = pk + np * (size_t)(k + 1), *X = y + m, *W = X + dd, *xe = W + dd + 3 * (size_t)d,
+           *g = xe + d, *val = g + k;
+    for (int a = 0; a < d; a++)
+        for (int b = 0; b <= a; b++) {
+            size_t at = (size_t)a * (a + 1) / 2 + b;
+            pk[at] = c->H0[(size_t)a * d + b] / emax;
+            for (int q = 0; q < k; q++)
+                pk[np * (size_t)(q + 1) + at] = c->A[(size_t)q * dd + (size_t)a * d + b] / amax;
+        }
+    for (int q = 0; q < k; q++) {
+        ind[q] = k * (k + 1) / 2 + q; /* row k, column q of block 1, packed */
+        val[q] = -1.0;
+    }
+    DSDP dsdp = NULL;
+    SDPCone cone = NULL;
+    *t_up = INFINITY;
+    *t_lo = -INFINITY;
+#define DS(call) do { rc = (call); if (rc) goto out; } while (0)
+    DS(DSDPCreate(m, &dsdp));
+    DS(DSDPCreateSDPCone(dsdp, 2, &cone));
+    DS(SDPConeSetBlockSize(cone, 0, d));
+    DS(SDPConeSetBlockSize(cone, 1, m));
+    DS(SDPConeSetADenseVecMat(cone, 0, 0, d, 1.0, pk, (int)np));
+    for (int q = 0; q < k; q++) {
+        DS(SDPConeSetADenseVecMat(cone, 0, q + 1, d, -1.0, pk + np * (size_t)(q + 1), (int)np));
+        DS(SDPConeSetASparseVecMat(cone, 1, q + 1, m, 1.0, 0, ind + q, val + q, 1));
+    }
+    DS(SDPConeSetIdentity(cone, 0, m, d, 1.0));
+    DS(SDPConeSetIdentity(cone, 1, 0, m, rho));
+    DS(DSDPSetDualObjective(dsdp, m, 1.0));
+    /* every y is bounded by the ball (mu) and by |t| <= 1 + sqrt(k) rho:
+     * DSDP's own box only needs to stay out of the way */
+    DS(DSDPSetYBounds(dsdp, -10.0 * (1.0 + sqrt((double)m) * rho), 10.0 * (1.0 + sqrt((double)m) * rho)));
+    DS(DSDPSetGapTolerance(dsdp, 1e-8));
+    DS(DSDPSetup(dsdp));
+    DS(DSDPSolve(dsdp));
+    DS(DSDPGetY(dsdp, y, m));
+    for (int q = 0; q < k; q++) mu[q] = y[q] * emax / amax;
+    double dobj = 0.0;
+    DS(DSDPGetDObjective(dsdp, &dobj));
+    *t_lo = dobj * emax;
+    /* whatever DSDP's stop reason, its y is checked by the caller with
+     * LAPACK, and the bound from X below holds for any X */
+    {
+        double *xx = NULL;
+        int nx = 0;
+        if (DSDPComputeX(dsdp) == 0 && SDPConeGetXArray(cone, 0, &xx, &nx) == 0 && xx &&
+            (size_t)nx >= np) {
+            for (int a = 0; a < d; a++)
+                for (int b = 0; b <= a; b++)
+                    X[(size_t)a * d + b] = X[(size_t)b * d + a] = xx[(size_t)a * (a + 1) / 2 + b];
+            int info = 0, lw = (int)(dd + 3 * (size_t)d);
+            dsyev_("V", "U", &d, X, &d, xe, W, &lw, &info);
+            double tr = 0.0;
+            for (int j = 0; j < d; j++) tr += fmax(xe[j], 0.0);
+            if (info == 0 && tr > 0.0) {
+                /* Xp = sum_j max(xe_j, 0) v_j v_j^T / tr; <M, Xp> = sum_j w_j v_j^T M v_j */
+                double h = 0.0, gn = 0.0;
+                for (int q = -1; q < k; q++) {
+                    const double *M = q < 0 ? c->H0 : c->A + (size_t)q * dd;
+                    double s = 0.0;
+                    for (int j = 0; j < d; j++) {
+                        double wj = fmax(xe[j], 0.0) / tr;
+                        if (wj == 0.0) continue;
+                        const double *v = X + (size_t)j * d;
+                        double vmv = 0.0;
+                        for (int a = 0; a < d; a++) {
+                            double t = 0.0;
+                            for (int b = 0; b < d; b++) t += M[(size_t)a * d + b] * v[b];
+                            vmv += v[a] * t;
+                        }
+                        s += wj * vmv;
+                    }
+                    if (q < 0) h = s;
+                    else { g[q] = s; gn += s * s; }
+                }
+                *t_up = h + R * sqrt(gn);
+            }
+        }
+    }
+out:
+#undef DS
+    if (dsdp) DSDPDestroy(dsdp);
+    free(pk); free(ind);
+    return rc;
+}
+
+int sf_stab_cert_search(int d, int k, const double *H0, const double *A, double *mu,
+                        sf_cert_search *o)
+{
+    size_t D = (size_t)d, K = (size_t)k, dd = D * D;
+    memset(o, 0, sizeof *o);
+    o->t_lo = -INFINITY;
+    o->t_up = INFINITY;
+    if (d <= 0 || k <= 0) return -1;
+    double *blk = malloc(sizeof(double) * (2 * dd + 4 * D + 8));
+    double *wrk = calloc(4 * K + 3 * K * K + 16, sizeof(double));
+    if (!blk || !wrk) {
+        free(blk); free(wrk);
+        return -1;
+    }
+    cert c = {0, 0, d, k, NULL, (double *)H0, (double *)A, blk, blk + dd, blk + dd + D + 1,
+              (int)(dd + 3 * D)};
+    int rc = 0;
+    for (int q = 0; q < k; q++) mu[q] = 0.0;
+    if (eig_at(&c, mu, 0)) {
+        rc = -1;
+        goto out;
+    }
+    /* tau: the smallest positive eigenvalue at mu = 0 (the stiffness scale
+     * of the free motions); margin: 1e-8 of the largest */
+    double tau = 0.0, emax = 0.0;
+    for (int j = 0; j < d; j++) {
+        emax = fmax(emax, fabs(c.ev[j]));
+        if (tau == 0.0 && c.ev[j] > 0.0) tau = c.ev[j];
+    }
+    if (!(tau > 0.0)) tau = 1e-6 * emax;
+    o->margin = 1e-8 * emax;
+    double amax = 0.0;
+    for (int q = 0; q < k; q++) {
+        double f = 0.0;
+        for (size_t i = 0; i < dd; i++) f += A[(size_t)q * dd + i] * A[(size_t)q * dd + i];
+        amax = fmax(amax, sqrt(f));
+    }
+    o->bound = amax > 0.0 && emax > 0.0 ? CERT_RHO * emax / amax : 0.0;
+    double *G = wrk, *rhs = G + K * K, *trial = rhs + 2 * K + 2;
+    if (ascend(&c, mu, tau, o->margin, G, rhs, trial)) {
+        if (eig_at(&c, mu, 0)) {
+            rc = -1;
+            goto out;
+        }
+        o->lmin = c.ev[0];
+        o->roundoff = cert_roundoff(&c, mu);
+        o->found = o->lmin > o->margin + o->roundoff ? SF_CERT_ASCENT : SF_CERT_NONE;
+        if (o->found) goto out;
+    }
+    /* the local ascent found none: the global search.  lambda_min of an
+     * affine matrix function is concave in mu, so the bounded program's
+     * optimum is THE largest smallest eigenvalue over the ball */
+    if (!(amax > 0.0 && emax > 0.0)) goto out;
+    double *mus = malloc(sizeof(double) * (K + 1));
+    if (!mus) {
+        rc = -1;
+        goto out;
+    }
+    int sr = sdp_solve(&c, emax, amax, mus, &o->t_lo, &o->t_up);
+    if (sr == 0) {
+        o->sdp_ran = 1;
+        /* DSDP's mu checked with LAPACK: its accuracy cannot certify */
+        if (eig_at(&c, mus, 0)) {
+            free(mus);
+            rc = -1;
+            goto out;
+        }
+        o->lmin = c.ev[0];
+        o->roundoff = cert_roundoff(&c, mus);
+        memcpy(mu, mus, sizeof(double) * K);
+        if (o->lmin > o->margin + o->roundoff) o->found = SF_CERT_SDP;
+    } else {
+        o->sdp_err = sr;
+        /* the ascent's mu stays; its eigenvalue */
+        if (!eig_at(&c, mu, 0)) o->lmin = c.ev[0];
+        o->t_lo = -INFINITY;
+        o->t_up = INFINITY;
+    }
+    free(mus);
+out:
+    free(blk); free(wrk);
+    return rc;
+}
+
 int sf_stab_certify(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *err)
 {
     sf_stab_result *R = &st->res;
@@ -272,38 +509,48 @@ int sf_stab_certify(sf_stab *st, sf_equil *q, const double *y, double p, sf_erro
     for (size_t i = 0; i < D * D; i++) hmax = fmax(hmax, fabs(c.H0[i]));
     /* where the rows keep their rank the A_k vanish to round-off */
     if (!(amax > 1e-12 * fmax(hmax, 1.0))) goto done;
-    if (eig_at(&c, mu, 0)) goto done;
-    /* tau: the smallest positive eigenvalue at the point's multipliers (the
-     * stiffness scale of the free motions); margin: 1e-8 of the largest */
-    double tau = 0.0, emax = 0.0;
-    for (int j = 0; j < d; j++) {
-        emax = fmax(emax, fabs(c.ev[j]));
-        if (tau == 0.0 && c.ev[j] > 0.0) tau = c.ev[j];
-    }
-    if (!(tau > 0.0)) tau = 1e-6 * emax;
-    double margin = 1e-8 * emax;
-    double *G = mu + K, *rhs = G + K * K, *trial = rhs + 2 * K + 2;
-    if (!ascend(&c, mu, tau, margin, G, rhs, trial)) {
+    sf_cert_search o;
+    if (sf_stab_cert_search(d, k, c.H0, c.A, mu, &o)) goto done;
+    if (!o.found) {
         /* no self-stress found that makes the reduced Hessian positive
-         * definite.  The ascent is local (it stalled at a few points of the
-         * 2x2 waterbomb path on one machine and not on another), and a
-         * negative eigenvalue at the point's own multipliers proves nothing
-         * here (above): the verdict is unknown, not unstable */
+         * definite, and a negative eigenvalue at the point's own
+         * multipliers proves nothing here (above): the verdict is unknown,
+         * not unstable.  The SDP's bound t_up on the largest smallest
+         * eigenvalue within |mu| <= bound is computed from DSDP's X here
+         * and holds whatever DSDP's accuracy; lmin is the eigenvalue at
+         * its mu (LAPACK), a lower bound */
         R->morse = 0;
         R->morse_unknown = 1;
         R->stable = -1;
         R->neig = 0;
         R->status = SF_SSTAB_UNKNOWN;
-        snprintf(R->reason, sizeof R->reason,
-                 "redundant constraint rows that change rank: Morse index %d at the path's "
-                 "multipliers, and no self-stress found that makes the point stable", dense_morse);
+        int n = snprintf(R->reason, sizeof R->reason,
+                         "redundant constraint rows that change rank: Morse index %d at the "
+                         "path's multipliers, ", dense_morse);
+        size_t at = n > 0 && (size_t)n < sizeof R->reason ? (size_t)n : sizeof R->reason - 1;
+        char *r = R->reason + at;
+        size_t left = sizeof R->reason - at;
+        if (!o.sdp_ran)
+            snprintf(r, left, "and no self-stress found that makes the point stable (local "
+                     "ascent: the semidefinite program failed, DSDP error %d)", o.sdp_err);
+        else if (o.t_up <= 0.0)
+            snprintf(r, left, "and no self-stress of norm <= %.3g makes the reduced Hessian "
+                     "positive definite (SDP: its largest smallest eigenvalue is in [%.4g, "
+                     "%.4g])", o.bound, o.lmin, o.t_up);
+        else if (o.t_up <= o.margin)
+            snprintf(r, left, "and no self-stress of norm <= %.3g raises the reduced Hessian's "
+                     "smallest eigenvalue above the margin %.3g (SDP: its largest is in [%.4g, "
+                     "%.4g])", o.bound, o.margin, o.lmin, o.t_up);
+        else
+            snprintf(r, left, "and no self-stress found that makes the point stable (SDP "
+                     "inconclusive: the largest smallest eigenvalue for norm <= %.3g is in "
+                     "[%.4g, %.4g])", o.bound, o.lmin, o.t_up);
         goto done;
     }
-    if (eig_at(&c, mu, 0)) goto done;
     R->morse = 0;
     R->morse_unknown = 0;
     R->stable = 1;
-    R->certified = 1;
+    R->certified = o.found;
     double mnorm = 0.0;
     for (int kk = 0; kk < k; kk++) mnorm = fmax(mnorm, fabs(mu[kk]));
     R->cert_mu = mnorm;
@@ -312,7 +559,7 @@ int sf_stab_certify(sf_stab *st, sf_equil *q, const double *y, double p, sf_erro
      * step bound would read as crossings; the eig columns stay empty, as
      * for the inertia method without eigenvalues */
     R->neig = 0;
-    R->cert_eig = c.ev[0];
+    R->cert_eig = o.lmin;
 done:
     free(A); free(HL0); free(blk); free(yk); free(mu);
     return rc;

@@ -69,8 +69,9 @@ typedef struct sf_stab_result {
     int nop;           /* ARPACK operator applications */
     int status;        /* SF_SSTAB_OK, SF_SSTAB_RETRIED, SF_SSTAB_UNKNOWN (sstab.h) */
     int attempts;      /* ARPACK attempts (0 for dense, 1 without retry) */
-    char reason[200];  /* what was retried or failed ("" when nothing) */
-    int certified;     /* 1: stable by a self-stress of redundant rows (stab_cert.c);
+    char reason[320];  /* what was retried or failed ("" when nothing) */
+    int certified;     /* stable by a self-stress of redundant rows (stab_cert.c), found by
+                          the local ascent (1) or the semidefinite program (2);
                           then neig = 0 (the eigenvalues depend on the self-stress) */
     double cert_mu;    /* the largest self-stress amplitude of the certificate */
     double cert_eig;   /* the certificate's smallest eigenvalue (> 0) */
@@ -119,6 +120,29 @@ int sf_stab_eval(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *
  * eigenvalues (stab_cert.c; docs/stability.md).  Called by
  * sf_stab_eval. */
 int sf_stab_certify(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *err);
+
+/* The search of sf_stab_certify on its own: H0 (d x d) and A (k blocks
+ * d x d), symmetric, column-major.  First the local ascent, then, where it
+ * fails, the semidefinite program max t s.t. H0 + sum mu_k A_k - t I >= 0,
+ * |mu| <= bound (DSDP); every mu is checked with LAPACK before it
+ * certifies (its smallest eigenvalue above the margin plus a bound on
+ * LAPACK's error there).  Returns 0, or -1 when LAPACK fails or memory
+ * runs out (nothing decided).  mu (k) receives the certificate's (or the SDP's) self-stress. */
+enum { SF_CERT_NONE = 0, SF_CERT_ASCENT = 1, SF_CERT_SDP = 2 };
+typedef struct {
+    int found;       /* SF_CERT_ASCENT or SF_CERT_SDP: smallest eigenvalue (LAPACK) > margin at mu */
+    int sdp_ran;     /* 1: DSDP solved (primal and dual feasible); 0: not run or failed */
+    int sdp_err;     /* DSDP's error code, or its stop reason when not converged; 0 otherwise */
+    double margin;   /* 1e-8 of the largest |eigenvalue| of H0 */
+    double roundoff; /* a bound on LAPACK's error of lmin at mu; found needs lmin > margin + roundoff */
+    double bound;    /* the bound on |mu| (2-norm), same units as mu */
+    double lmin;     /* the smallest eigenvalue at mu (LAPACK) */
+    double t_lo;     /* DSDP's t at its mu (dual objective; the eigenvalue lmin checks it) */
+    double t_up;     /* an upper bound of max { lambda_min(H0 + sum mu_k A_k) : |mu| <= bound }
+                        computed here from DSDP's X (PSD part, trace 1); INFINITY if none */
+} sf_cert_search;
+int sf_stab_cert_search(int d, int k, const double *H0, const double *A, double *mu,
+                        sf_cert_search *out);
 
 const char *sf_stab_method_name(int method);
 
