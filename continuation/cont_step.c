@@ -342,7 +342,8 @@ static void tail_note(const cont_solver *s, const tail_watch *tw, double tp, cha
                  "to %.3g or more: the Newton step moves away from the branch here (nearly "
                  "singular equations whose regularised step amplifies an error, or a "
                  "Jacobian that does not match the residual), not a turning point (dp/ds = "
-                 "%.3g); the points so far meet the tolerance; no setting is known to get "
+                 "%.3g); the points so far meet the tolerance; where nearly dependent "
+                 "constraint rows cause it, equations without them (e.g. a penalty) may get "
                  "past such a point (continuation/README.md, \"A corrector that diverges "
                  "next to the tolerance\")", tw->n, tw->ds, tw->lo, tw->hi, s->ftol, tw->end,
                  tp);

@@ -108,7 +108,8 @@ static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, d
         /* the keys of the remedies a diagnosis names */
         const char *m = cont_errmsg(cs);
         return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: %s%s", s->path, r->npoints,
-                       m, strstr(m, "e.g. a penalty") ? " (solver.tolerance, solver.constraints)"
+                       m, strstr(m, "then diverged") ? " (solver.constraints)"
+                          : strstr(m, "e.g. a penalty") ? " (solver.tolerance, solver.constraints)"
                           : strstr(m, "residual floor") ? " (solver.tolerance)" : "");
     }
     if (r->flat_sw && flat_switch(r)) return err->code;
