@@ -171,7 +171,7 @@ struct cont_solver {
                               * the anchored system first, from that level */
     char why[400];           /* reason the last attempt failed */
     char kin_msg[256];       /* last message from KINSOL */
-    char msg[1024];          /* first error */
+    char msg[2048];          /* first error (with a diagnosis about 1000 characters) */
     int err;
 };
 

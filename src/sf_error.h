@@ -26,7 +26,8 @@ enum {
 
 typedef struct sf_error {
     int code;         /* SF_OK when no error was recorded */
-    char msg[1024];   /* first error, one line, no trailing newline */
+    char msg[2048];   /* first error, one line, no trailing newline (a stop with its
+                       * diagnosis and the keys to try runs to about 1000 characters) */
 } sf_error;
 
 void sf_error_clear(sf_error *e);
