@@ -605,9 +605,10 @@ static void test_divergence_diagnosis(void **state)
 /* converges), and beyond p = 0.5 a term a sgn(e) in F2 (e = y2 -        */
 /* y1^2 / 10) that no Newton step removes: the anchored iterates then    */
 /* alternate e = +-a, residual 2a = 1.5e-10 against the tolerance 1e-10, */
-/* up to the iteration limit (lower where an iterate's p is below 0.5).  The path crawls to p = 0.5, accepted      */
-/* points in between, and its last step fails at fewer attempts than    */
-/* tail_note counts; the stop must say what the anchored corrector did.  */
+/* up to the iteration limit (lower where an iterate's p is below 0.5).  */
+/* The path crawls to p = 0.5, accepted points in between, and its last  */
+/* step fails at fewer attempts than tail_note counts; the stop must say */
+/* what the anchored corrector did.                                      */
 /* With a NaN residual beyond p = 0.5 instead (nan = 1) it must not.     */
 
 typedef struct { int on, nan; double eps, ya2; } afl_anchor;
