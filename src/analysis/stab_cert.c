@@ -82,6 +82,26 @@ static int eig_at(cert *c, const double *mu, int vec)
     return info;
 }
 
+/* The Frobenius norm of the n entries of M. */
+static double frob(const double *M, size_t n)
+{
+    double f = 0.0;
+    for (size_t i = 0; i < n; i++) f += M[i] * M[i];
+    return sqrt(f);
+}
+
+/* v^T M v, M d x d. */
+static double quad_form(int d, const double *M, const double *v)
+{
+    double s = 0.0;
+    for (int a = 0; a < d; a++) {
+        double t = 0.0;
+        for (int b = 0; b < d; b++) t += M[(size_t)a * d + b] * v[b];
+        s += v[a] * t;
+    }
+    return s;
+}
+
 /* A bound on the error of the smallest eigenvalue that eig_at computes at
  * mu: forming H0 + sum mu_k A_k costs (k + 1) eps of the summed norms, and
  * dsyev is backward stable (an error of order d eps |M|); both estimated,
@@ -91,14 +111,8 @@ static int eig_at(cert *c, const double *mu, int vec)
 static double cert_roundoff(const cert *c, const double *mu)
 {
     size_t dd = (size_t)c->d * c->d;
-    double s = 0.0, f = 0.0;
-    for (size_t i = 0; i < dd; i++) f += c->H0[i] * c->H0[i];
-    s = sqrt(f);
-    for (int q = 0; q < c->k; q++) {
-        f = 0.0;
-        for (size_t i = 0; i < dd; i++) f += c->A[(size_t)q * dd + i] * c->A[(size_t)q * dd + i];
-        s += fabs(mu[q]) * sqrt(f);
-    }
+    double s = frob(c->H0, dd);
+    for (int q = 0; q < c->k; q++) s += fabs(mu[q]) * frob(c->A + (size_t)q * dd, dd);
     return 10.0 * (double)(c->d + c->k + 1) * 2.220446049250313e-16 * s;
 }
 
@@ -136,14 +150,7 @@ static int ascend(cert *c, double *mu, double tau, double margin, double *G, dou
             if (!(c->ev[j] < tau)) break;
             const double *w = c->H + (size_t)j * d;
             for (int q = 0; q < k; q++) {
-                const double *Aq = c->A + (size_t)q * dd;
-                double s = 0.0;
-                for (int a = 0; a < d; a++) {
-                    double t = 0.0;
-                    for (int b = 0; b < d; b++) t += Aq[(size_t)a * d + b] * w[b];
-                    s += w[a] * t;
-                }
-                G[(size_t)m * k + q] = s;
+                G[(size_t)m * k + q] = quad_form(d, c->A + (size_t)q * dd, w);
             }
             rhs[m++] = tau - c->ev[j];
         }
@@ -298,14 +305,7 @@ static int sdp_solve(const cert *c, double emax, double amax, double *mu, double
                     for (int j = 0; j < d; j++) {
                         double wj = fmax(xe[j], 0.0) / tr;
                         if (wj == 0.0) continue;
-                        const double *v = X + (size_t)j * d;
-                        double vmv = 0.0;
-                        for (int a = 0; a < d; a++) {
-                            double t = 0.0;
-                            for (int b = 0; b < d; b++) t += M[(size_t)a * d + b] * v[b];
-                            vmv += v[a] * t;
-                        }
-                        s += wj * vmv;
+                        s += wj * quad_form(d, M, X + (size_t)j * d);
                     }
                     if (q < 0) h = s;
                     else { g[q] = s; gn += s * s; }
@@ -353,11 +353,7 @@ int sf_stab_cert_search(int d, int k, const double *H0, const double *A, double 
     if (!(tau > 0.0)) tau = 1e-6 * emax;
     o->margin = 1e-8 * emax;
     double amax = 0.0;
-    for (int q = 0; q < k; q++) {
-        double f = 0.0;
-        for (size_t i = 0; i < dd; i++) f += A[(size_t)q * dd + i] * A[(size_t)q * dd + i];
-        amax = fmax(amax, sqrt(f));
-    }
+    for (int q = 0; q < k; q++) amax = fmax(amax, frob(A + (size_t)q * dd, dd));
     o->bound = amax > 0.0 && emax > 0.0 ? CERT_RHO * emax / amax : 0.0;
     double *G = wrk, *rhs = G + K * K, *trial = rhs + 2 * K + 2;
     if (ascend(&c, mu, tau, o->margin, G, rhs, trial)) {
