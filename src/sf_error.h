@@ -24,9 +24,12 @@ enum {
     SF_EDIFFER = 9    /* compare: two runs differ by more than the tolerance */
 };
 
+/* the longest message kept, terminator included */
+#define SF_MSG_SIZE 2048
+
 typedef struct sf_error {
     int code;         /* SF_OK when no error was recorded */
-    char msg[2048];   /* first error, one line, no trailing newline (a stop with its
+    char msg[SF_MSG_SIZE];   /* first error, one line, no trailing newline (a stop with its
                        * diagnosis and the keys to try runs to about 1000 characters) */
 } sf_error;
 

@@ -596,7 +596,7 @@ int sf_equil_poses_start_flat(sf_equil *q, cont_solver *cs, double p0, double p1
     }
     sf_error lerr;
     sf_error_clear(&lerr);
-    char why[1100] = "";
+    char why[SF_MSG_SIZE] = "";
     int ok = 0;
     /* the limit of the branch (flatstart.c), in fold coordinates */
     sf_flatstart_info fi;

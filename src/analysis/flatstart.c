@@ -750,7 +750,7 @@ int sf_equil_start_flat(sf_equil *q, struct cont_solver *cs, double p0, double p
         return sf_flat_start_descend(q, cs, p1, dir, tol, y, branch, info, err);
     }
     /* the penalty homotopy (sf_equil_start_off_flat) as the fallback */
-    char why[2000];
+    char why[SF_MSG_SIZE];
     if (rc == SF_OK && info->degenerate)
         snprintf(why, sizeof why, "%s; on it the fold coordinates at p = %g are about %.2g, "
                  "so the second-order loop terms (about %.2g) that this branch turns on are "

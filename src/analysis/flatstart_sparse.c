@@ -403,7 +403,7 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
     }
     double h = angle / max_angle(m, lim ? W : u);
     if (max_dp > 0 && h > max_dp) h = max_dp;
-    char why[1100] = "", why0[600] = "";
+    char why[SF_MSG_SIZE] = "", why0[600] = "";
     int halvings, its = 0, nslow = 0, small_reg = 0;
     double last_res = NAN;   /* the first point's last scaled residual */
     for (halvings = 0; halvings <= 4; halvings++, h *= 0.5) {
