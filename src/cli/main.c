@@ -11,6 +11,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
+#include <unistd.h>
 
 #include "commands.h"
 #include "kinematics.h"
@@ -163,6 +165,35 @@ static void single_threaded_blas(void)
     if (set && stop) stop();
 }
 
+/* OpenBLAS chooses its kernels when it loads, from the CPU's model number.
+ * Debian 12's OpenBLAS (0.3.21) does not know the newer Intel models (e.g.
+ * Sapphire Rapids) and falls back to its Prescott (SSE3) kernels, which
+ * made the dense fronts of the large sheets' MUMPS factorisations about
+ * twice as slow (OpenBLAS issue 4267, fixed in 0.3.25).  The choice can
+ * only be changed before the library loads, through OPENBLAS_CORETYPE; so
+ * when it fell back to Prescott on a CPU that has AVX2 (which no Prescott
+ * has), the program starts itself again with the kernels the CPU supports
+ * named.  A user's own OPENBLAS_CORETYPE is left alone; if the exec fails,
+ * the run carries on with the slow kernels. */
+static void blas_kernels_for_this_cpu(char **argv)
+{
+    if (getenv("OPENBLAS_CORETYPE")) return;
+    char *(*corename)(void) = (char *(*)(void))dlsym(RTLD_DEFAULT, "openblas_get_corename");
+    const char *core = corename ? corename() : NULL;
+    if (!core || strcasecmp(core, "prescott") != 0) return;
+    __builtin_cpu_init();
+    const char *kernels = NULL;
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512cd") &&
+        __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq") &&
+        __builtin_cpu_supports("avx512vl"))
+        kernels = "SkylakeX";
+    else if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+        kernels = "Haswell";
+    if (!kernels || setenv("OPENBLAS_CORETYPE", kernels, 1) != 0) return;
+    execv("/proc/self/exe", argv);
+    unsetenv("OPENBLAS_CORETYPE");   /* not passed on to plot or sweep children */
+}
+
 static const command *find_command(const char *name)
 {
     for (size_t i = 0; i < sizeof commands / sizeof *commands; i++)
@@ -201,6 +232,7 @@ enum { OPT_SET = 256, OPT_ANGLES, OPT_FORCE, OPT_PLOT, OPT_NOPLOT, OPT_TOL, OPT_
 
 int main(int argc, char **argv)
 {
+    blas_kernels_for_this_cpu(argv);
     single_threaded_blas();
     static const struct option longopts[] = {
         {"output", required_argument, NULL, 'o'},
