@@ -10,6 +10,10 @@
 #define SAME_TOL 1e-3     /* two solutions are one when closer (A norm, relative): a flat valley of the energy converges to ~1e-6 only */
 #define ASCENT_MAXIT 400  /* projected-gradient steps of the work on the cone */
 #define ASCENT_TOL 1e-6   /* projected gradient (A norm, relative) of a stationary ray */
+#define ASCENT_STALL_ITS 10     /* the ascent is at a corner of the cone when its last */
+#define ASCENT_STALL_GAIN 1e-9  /* ASCENT_STALL_ITS steps raised the work by less than
+                                 * this (relative): on square4 they gained ~1e-10 each
+                                 * for up to ASCENT_MAXIT steps */
 #define ASCENT_STARTS 24  /* random starts of the ascent on the cone */
 
 typedef sf_cone_red red;

@@ -45,13 +45,19 @@ static double cone_project(const red *R, double *x, awork *a)
  * C = [(Q_t x)^T; (A x)^T] and C d = 0, then back onto the cone.  A step
  * that does not raise the work is halved; the ascent ends where the
  * projected gradient vanishes (a stationary ray, polished by the caller)
- * or no step helps (a corner of the cone).  Returns 0 at a stationary
- * ray. */
+ * or no step helps, or the steps gain almost nothing (a corner of the
+ * cone).  Returns 0 at a stationary ray. */
 static int cone_ascend(const red *R, double *x, awork *a)
 {
     int k = R->k, r = R->r, m = r + 1;
-    double step = 0.05;
+    double step = 0.05, wpast[ASCENT_STALL_ITS];   /* the work of the last iterations */
     for (int it = 0; it < ASCENT_MAXIT; it++) {
+        /* a corner: steps still found, but they gain almost nothing (the
+         * cone turns the projected gradient back) */
+        double w = sf_fc_dot(k, R->b, x);
+        if (it >= ASCENT_STALL_ITS && wpast[it % ASCENT_STALL_ITS] - w <= ASCENT_STALL_GAIN * fabs(w))
+            return 1;
+        wpast[it % ASCENT_STALL_ITS] = w;
         sf_fc_cone_eval(R, x, a->h, a->C, a->tmp);   /* C rows 0..r-1 (leading dimension r) */
         /* C with leading dimension m: row r is (A x)^T */
         for (int j = k - 1; j >= 0; j--)
