@@ -705,7 +705,16 @@ int sf_cone_find_rays(const sf_limit *L, int nstarts, const double *zextra, cons
     if (!c->degu || !c->degen) goto done;
     if (sf_fc_rays_add(L, &R, rays, nrays, a0, sols, en, &ns, nmax, c, v, F, Jm, d, vt, w.tmp) < 0)
         goto done;
-    if (r > 0 && sf_fc_cone_search(&R, a0, sols, en, &ns, nmax, c, v, F, Jm, d, vt, &st) < 0)
+    /* With a stable branch in hand the rays only look for a lower one, and
+     * an ascent that creeps along a corner of the cone is left; without
+     * one, their ends are the candidates and degenerate rays the start
+     * may follow, and every ascent runs its course (left early, the 2x2
+     * waterbomb tessellation in fold coordinates started from another
+     * point of a flat valley of the limit energy: docs/flatstart.md). */
+    int have_stable = 0;
+    for (int i = 0; i < ns && !have_stable; i++) have_stable = red_stable(&R, sols + (size_t)i * n) == 1;
+    if (r > 0 &&
+        sf_fc_cone_search(&R, a0, sols, en, &ns, nmax, c, v, F, Jm, d, vt, &st, have_stable) < 0)
         goto done;
     if (ns == 0 && c->ndeg == 0 && havedeg && r > 0) {
         /* nothing else: the descent from the driving's response went down

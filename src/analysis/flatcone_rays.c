@@ -45,13 +45,20 @@ static double cone_project(const red *R, double *x, awork *a)
  * C = [(Q_t x)^T; (A x)^T] and C d = 0, then back onto the cone.  A step
  * that does not raise the work is halved; the ascent ends where the
  * projected gradient vanishes (a stationary ray, polished by the caller)
- * or no step helps (a corner of the cone).  Returns 0 at a stationary
- * ray. */
-static int cone_ascend(const red *R, double *x, awork *a)
+ * or no step helps, or (stall_ends) the steps gain almost nothing: a
+ * corner of the cone.  Returns 0 at a stationary ray. */
+static int cone_ascend(const red *R, double *x, awork *a, int stall_ends)
 {
     int k = R->k, r = R->r, m = r + 1;
-    double step = 0.05;
+    double step = 0.05, wpast[ASCENT_STALL_ITS];   /* the work of the last iterations */
     for (int it = 0; it < ASCENT_MAXIT; it++) {
+        /* a corner: steps still found, but they gain almost nothing (the
+         * cone turns the projected gradient back) */
+        double w = sf_fc_dot(k, R->b, x);
+        if (stall_ends && it >= ASCENT_STALL_ITS &&
+            wpast[it % ASCENT_STALL_ITS] - w <= ASCENT_STALL_GAIN * fabs(w))
+            return 1;
+        wpast[it % ASCENT_STALL_ITS] = w;
         sf_fc_cone_eval(R, x, a->h, a->C, a->tmp);   /* C rows 0..r-1 (leading dimension r) */
         /* C with leading dimension m: row r is (A x)^T */
         for (int j = k - 1; j >= 0; j--)
@@ -146,7 +153,7 @@ void sf_fc_deg_add(const red *R, const double *x, double w, sf_cone *c)
  * the solutions are added to sols.  -1 when out of memory. */
 int sf_fc_cone_search(const red *R, double a0, double *sols, double *en, int *ns, int nmax,
                        sf_cone *c, double *v, double *F, double *Jm, double *d, double *vt,
-                       unsigned long long *st)
+                       unsigned long long *st, int stall_ends)
 {
     int k = R->k, r = R->r, m = r + 1, rc = -1, big = (k > m ? k : m) + 1;
     awork a;
@@ -176,7 +183,7 @@ int sf_fc_cone_search(const red *R, double a0, double *sols, double *en, int *ns
         if (cone_project(R, x, &a) > CONE_TOL) continue;
         if (sf_fc_dot(k, R->b, x) > 0.0)
             for (int i = 0; i < k; i++) x[i] = -x[i];
-        int ar = cone_ascend(R, x, &a);
+        int ar = cone_ascend(R, x, &a, stall_ends);
         if (ar < 0) goto done;
         if (!(sf_fc_dot(k, R->b, x) < 0.0)) continue;
         int pr = ray_polish(R, x, v, F, Jm, d, vt, a.tmp);
