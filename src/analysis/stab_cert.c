@@ -28,10 +28,12 @@
  * only (face poses start their multipliers from zero and small). */
 #include "stability.h"
 
+#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <dsdp5.h>
 
@@ -215,6 +217,30 @@ static int ascend(cert *c, double *mu, double tau, double margin, double *G, dou
     return lmin > margin;
 }
 
+/* DSDP prints the trace of a failed solve with printf, onto the run's
+ * progress lines; the caller reports the failure itself, so stdout goes
+ * to /dev/null while DSDP solves.  Returns the saved descriptor (-1: not
+ * redirected). */
+static int stdout_off(void)
+{
+    fflush(stdout);
+    int saved = dup(STDOUT_FILENO), nul = open("/dev/null", O_WRONLY);
+    if (saved >= 0 && nul >= 0 && dup2(nul, STDOUT_FILENO) < 0) {
+        close(saved);
+        saved = -1;
+    }
+    if (nul >= 0) close(nul);
+    return saved;
+}
+
+static void stdout_on(int saved)
+{
+    if (saved < 0) return;
+    fflush(stdout);
+    dup2(saved, STDOUT_FILENO);
+    close(saved);
+}
+
 /* The SDP, scaled: Hs = H0 / emax, As_k = A_k / amax, mu = y_k emax /
  * amax, t = y_{k+1} emax.  DSDP's dual form, max b^T y with C - sum y_i A_i
  * PSD: block 0 (d) C = Hs, A_i = -As_i, A_{k+1} = I; block 1 (k + 1)
@@ -276,7 +302,10 @@ static int sdp_solve(const cert *c, double emax, double amax, double *mu, double
     DS(DSDPSetYBounds(dsdp, -10.0 * (1.0 + sqrt((double)m) * rho), 10.0 * (1.0 + sqrt((double)m) * rho)));
     DS(DSDPSetGapTolerance(dsdp, 1e-8));
     DS(DSDPSetup(dsdp));
-    DS(DSDPSolve(dsdp));
+    int saved = stdout_off();
+    rc = DSDPSolve(dsdp);
+    stdout_on(saved);
+    if (rc) goto out;
     DS(DSDPGetY(dsdp, y, m));
     for (int q = 0; q < k; q++) mu[q] = y[q] * emax / amax;
     double dobj = 0.0;
