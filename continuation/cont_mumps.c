@@ -44,6 +44,27 @@ void cont_mumps_keep_heap(void)
 #endif
 }
 
+/* The sequential MUMPS of Debian 12 (5.5) is built without METIS: an
+ * ICNTL(7) of 5 falls back to MUMPS's automatic choice, which is SCOTCH
+ * above 10000 rows of a symmetric matrix, 5000 of an unsymmetric one
+ * (INFOG(7) = 3; AMF below: the LDL^T of sheets up to 8x8 does not reach
+ * it).  SCOTCH 7 orders with one thread per
+ * CPU of the affinity mask, and its threaded orderings differ from run to
+ * run: 2 of 10 runs of the 12x12 Miura sheet had another permutation of
+ * the same matrix (factor entries 518415 and 503680 against 491208), hence
+ * other rounding from the first point after the flat start on.  With one
+ * thread the ordering is the same in every run (6 of 6).  SCOTCH reads
+ * SCOTCH_PTHREAD_NUMBER from the environment when it orders: set here for
+ * the process, before the first analysis (once), over any value given,
+ * as OpenBLAS's threads are in src/cli/main.c. */
+void cont_mumps_single_thread(void)
+{
+    static int done;
+    if (done) return;
+    done = 1;
+    setenv("SCOTCH_PTHREAD_NUMBER", "1", 1);
+}
+
 typedef struct mumps_content {
     DMUMPS_STRUC_C id;
     int inited;          /* job -1 done */
@@ -127,7 +148,8 @@ static int ls_setup(SUNLinearSolver S, SUNMatrix A)
         }
         id->a = SM_DATA_S(A);
         quiet(id);
-        id->ICNTL(7) = 5;     /* METIS ordering */
+        id->ICNTL(7) = 5;     /* METIS ordering (SCOTCH or AMF where MUMPS
+                                 * lacks METIS, cont_mumps_single_thread) */
         id->ICNTL(28) = 1;    /* sequential analysis */
         id->job = 1;
         dmumps_c(id);
@@ -216,6 +238,7 @@ static SUNLinearSolver create(N_Vector y, SUNMatrix A, SUNContext ctx, int sym)
         return NULL;
     if (y && N_VGetLength(y) != SM_ROWS_S(A)) return NULL;
     cont_mumps_keep_heap();
+    cont_mumps_single_thread();
     SUNLinearSolver S = SUNLinSolNewEmpty(ctx);
     if (!S) return NULL;
     S->ops->gettype = ls_type;

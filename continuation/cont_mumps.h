@@ -50,6 +50,12 @@ int cont_mumps_det(SUNLinearSolver S, int *sign, double *logabs);
  * Called by the two solvers above and by src/analysis/ldlt.c. */
 void cont_mumps_keep_heap(void);
 
+/* SCOTCH, MUMPS's ordering of large matrices in a build without METIS,
+ * held to one thread for the process (SCOTCH_PTHREAD_NUMBER = 1; once):
+ * its threaded orderings differ from run to run, and with them the
+ * rounding of every factorisation.  Called where cont_mumps_keep_heap is. */
+void cont_mumps_single_thread(void);
+
 /* Counters since creation: analyses, factorisations, workspace relaxations;
  * MUMPS's own timings are not used (none of these may be NULL). */
 void cont_mumps_counts(SUNLinearSolver S, long *analyses, long *factors, long *relax);

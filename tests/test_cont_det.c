@@ -1,7 +1,8 @@
 /* test_cont_det.c - the continuation engine's determinant of the augmented
  * Jacobian, dense (LAPACK) and sparse (KLU, MUMPS), against an independent
- * Gaussian elimination, and the check of a sparse Jacobian's pattern (a
- * duplicate entry is refused with a message). */
+ * Gaussian elimination, the check of a sparse Jacobian's pattern (a
+ * duplicate entry is refused with a message), and MUMPS's SCOTCH ordering
+ * held to one thread. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -131,6 +132,25 @@ static void test_det_dense_klu(void **state)
     }
 }
 
+/* A MUMPS solver sets SCOTCH_PTHREAD_NUMBER = 1 before its first analysis,
+ * over the environment's value (cont_mumps_single_thread): SCOTCH, the
+ * ordering of large matrices where MUMPS lacks METIS, gives other
+ * orderings of one matrix from run to run with several threads.  First
+ * in the group, before any MUMPS solver of this process. */
+static void test_mumps_scotch_one_thread(void **state)
+{
+    (void)state;
+    setenv("SCOTCH_PTHREAD_NUMBER", "4", 1);
+    cont_problem prob = {.n = LN, .residual = lin_res, .jacobian = lin_jac_sparse,
+                         .jac_matrix = CONT_MATRIX_SPARSE, .jac_nnz = 2};
+    cont_solver *s = make(&prob, CONT_LINSOL_MUMPS);
+    double y0[LN] = {0};
+    CHECK_OK(cont_start(s, y0, 0.5, +1), s);
+    const char *v = getenv("SCOTCH_PTHREAD_NUMBER");
+    CHECK_TRUE(v && strcmp(v, "1") == 0, "SCOTCH_PTHREAD_NUMBER = %s", v ? v : "(unset)");
+    cont_free(s);
+}
+
 static int dup_jac(const double *y, double p, SUNMatrix J, double *Fp, void *u)
 {
     (void)y; (void)p; (void)u;
@@ -164,6 +184,7 @@ static void test_sparse_pattern_errors(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_mumps_scotch_one_thread),
         cmocka_unit_test(test_det_dense_klu),
         cmocka_unit_test(test_sparse_pattern_errors),
     };

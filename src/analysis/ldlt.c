@@ -42,6 +42,7 @@ int sf_ldlt_create(sf_ldlt **out, double null_tol, sf_error *err)
 {
     *out = NULL;
     cont_mumps_keep_heap();   /* MUMPS's workspace kept on the heap */
+    cont_mumps_single_thread();   /* one ordering in every run (SCOTCH) */
     sf_ldlt *f = calloc(1, sizeof *f);
     if (!f) return sf_fail(err, SF_ENOMEM, "out of memory");
     f->null_tol = null_tol > 0 ? null_tol : 1e-12;
