@@ -167,9 +167,10 @@ static void single_threaded_blas(void)
 
 /* OpenBLAS chooses its kernels when it loads, from the CPU's model number.
  * Debian 12's OpenBLAS (0.3.21) does not know the newer Intel models (e.g.
- * Sapphire Rapids) and falls back to its Prescott (SSE3) kernels, which
- * made the dense fronts of the large sheets' MUMPS factorisations about
- * twice as slow (OpenBLAS issue 4267, fixed in 0.3.25).  The choice can
+ * Sapphire Rapids) and falls back to its Prescott (SSE3) kernels, on
+ * which the dense fronts of the large sheets' MUMPS factorisations are
+ * slower (16x16 Miura: 1.2 to 1.6 times the CPU time; OpenBLAS issue 4267,
+ * fixed in 0.3.25).  The choice can
  * only be changed before the library loads, through OPENBLAS_CORETYPE; so
  * when it fell back to Prescott on a CPU that has AVX2 (which no Prescott
  * has), the program starts itself again with the kernels the CPU supports
