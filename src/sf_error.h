@@ -29,8 +29,9 @@ enum {
 
 typedef struct sf_error {
     int code;         /* SF_OK when no error was recorded */
-    char msg[SF_MSG_SIZE];   /* first error, one line, no trailing newline (a stop with its
-                       * diagnosis and the keys to try runs to about 1000 characters) */
+    char msg[SF_MSG_SIZE];   /* first error, one line, no trailing newline (a stop with
+                              * its diagnosis and the keys to try runs to about 1000
+                              * characters) */
 } sf_error;
 
 void sf_error_clear(sf_error *e);

@@ -721,13 +721,9 @@ int sf_cone_find_rays(const sf_limit *L, int nstarts, const double *zextra, cons
          * to EPS_MIN next to the cone, but the reduced Newton found no
          * multipliers there (they grow as eps falls): a degenerate ray */
         anormalise(&R, xdeg, w.tmp);
-        double hm = 0.0;
-        for (int t = 0; t < r; t++) {
-            matvec(k, R.Q + (size_t)t * k * k, xdeg, w.tmp);
-            hm = fmax(hm, fabs(0.5 * dot(k, xdeg, w.tmp)));
-        }
+        cone_eval(&R, xdeg, F, NULL, w.tmp);
         double wk = dot(k, R.b, xdeg);
-        if (hm <= DESCENT_DEG_TOL && wk < 0.0) {
+        if (maxabs(F, r) <= DESCENT_DEG_TOL && wk < 0.0) {
             c->ncone++;
             sf_fc_deg_add(&R, xdeg, wk, c);
         }
