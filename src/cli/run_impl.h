@@ -72,11 +72,6 @@ typedef struct run_ctx {
      * checked at every written point */
     double drop_max;      /* largest scaled residual of a dropped row */
     long drop_bad;        /* points where it exceeded the Newton tolerance */
-    /* "auto" chose the fold formulation for a small sheet with loops
-     * (choose_keys), and its flat start found no first point: run.c runs
-     * the study again with the sparse pose start */
-    int auto_small;
-    int retry_poses;
 } run_ctx;
 
 /* run_equilibrium.c: set up the equilibrium problem and the continuation

@@ -1,0 +1,373 @@
+/* start.c - the first point off the flat sheet (start.h): the driving's
+ * control and amount of folding, the minimisation of start_alm.c, the
+ * sheet's own branches where the driving is blocked, and what the output
+ * says about them. */
+#include "start.h"
+#include "start_impl.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "study.h"
+
+/* Two branches are the same when their unit fold-angle directions (sign
+ * fixed) differ by less than this. */
+#define SAME_BRANCH 1e-3
+
+typedef struct start_ctx {
+    sf_equil *q;
+    fs_kkt k;
+    const sf_start_opts *o;
+    const double *y0;
+    double p0;
+    int dir;
+    double *row;             /* the driving's control: dF/dp at the flat state */
+    sf_start_info *info;
+    int nbr;                 /* distinct branches found, their directions */
+    double *dirs;            /* nbr x nfolds */
+} start_ctx;
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static void add_stats(start_ctx *c, const fs_alm_result *r)
+{
+    c->info->outer += r->outer;
+    c->info->newton += r->newton;
+}
+
+/* Largest |fold angle| of y. */
+static double fold_amplitude(const sf_model *m, const double *y)
+{
+    double a = 0.0;
+    for (int f = 0; f < m->nfolds; f++) a = fmax(a, fabs(y[m->qoff[f]]));
+    return a;
+}
+
+/* Record the branch of the closed state y if its fold-angle direction is
+ * new.  Returns its index. */
+static int note_branch(start_ctx *c, const double *y)
+{
+    const sf_model *m = c->q->m;
+    int nf = m->nfolds;
+    double *v = malloc(sizeof(double) * ((size_t)nf + 1));
+    if (!v) return -1;
+    double big = fold_amplitude(m, y), sg = 0.0;
+    for (int f = 0; f < nf; f++) {
+        v[f] = big > 0.0 ? y[m->qoff[f]] / big : 0.0;
+        if (sg == 0.0 && fabs(v[f]) >= 1e-2) sg = v[f] > 0.0 ? 1.0 : -1.0;
+    }
+    for (int f = 0; f < nf; f++) v[f] *= sg;
+    for (int b = 0; b < c->nbr; b++) {
+        double d = 0.0;
+        for (int f = 0; f < nf; f++) d = fmax(d, fabs(v[f] - c->dirs[(size_t)b * nf + f]));
+        if (d < SAME_BRANCH) { free(v); return b; }
+    }
+    double *nd = realloc(c->dirs, sizeof(double) * (size_t)(c->nbr + 1) * (size_t)nf);
+    if (!nd) { free(v); return -1; }
+    c->dirs = nd;
+    memcpy(c->dirs + (size_t)c->nbr * nf, v, sizeof(double) * (size_t)nf);
+    free(v);
+    return c->nbr++;
+}
+
+/* Folds of y that turn against their crease assignment (valley positive). */
+static int against_assignment(const sf_model *m, const double *y)
+{
+    const sf_study *s = m->study;
+    int n = 0;
+    double big = fold_amplitude(m, y);
+    for (int i = 0; i < m->nfolds && i < s->nfolds; i++) {
+        char key[64];
+        snprintf(key, sizeof key, "folds[%d].assignment", i);
+        if (!sf_study_has(s, key)) continue;
+        const char *a = NULL;
+        sf_error e;
+        sf_error_clear(&e);
+        if (sf_study_string(s, key, "", &a, &e) || !a) continue;
+        double sg = strcmp(a, "V") == 0 ? 1.0 : strcmp(a, "M") == 0 ? -1.0 : 0.0;
+        double th = y[m->qoff[i]];
+        if (sg != 0.0 && fabs(th) > 1e-3 * big && th * sg < 0.0) n++;
+    }
+    return n;
+}
+
+/* The first-order response to a unit amount of the control, from the flat
+ * state with the loops as compliant as in the first minimisation: its
+ * largest fold angle per unit (*amp) and the sign of its multiplier
+ * (*musign).  For FS_FIXED the response to a unit change of p. */
+static int unit_response(start_ctx *c, const fs_control *ctl, double *amp, double *musign,
+                         sf_error *err)
+{
+    fs_kkt *k = &c->k;
+    sf_equil *q = c->q;
+    int n = k->n, nx = k->nx;
+    double *b = calloc((size_t)n + 1, sizeof(double));
+    double *a = calloc((size_t)n + 1, sizeof(double));
+    if (!b || !a) { free(b); free(a); return sf_fail(err, SF_ENOMEM, "out of memory"); }
+    if (!q->lam_anchor) q->lam_anchor = calloc((size_t)q->ncon + 1, sizeof(double));
+    memset(q->lam_anchor, 0, sizeof(double) * (size_t)q->ncon);
+    q->eps_anchor = 1.0;
+    int rc = fs_kkt_eval(k, c->y0, c->p0, err);
+    if (!rc) rc = fs_kkt_factor(k, 0.0, err);
+    if (!rc && ctl->kind == FS_FIXED) {
+        for (int i = 0; i < n; i++) b[i] = -k->S[i] * k->Fp[i];
+        rc = fs_kkt_solve(k, b, err);
+        *musign = 1.0;
+    } else if (!rc) {
+        /* [K0 l; l^T 0] [x; nu] = [0; 1] */
+        for (int i = 0; i < nx; i++) a[i] = ctl->row[i] * k->S[i];
+        rc = fs_kkt_solve(k, a, err);
+        double la = 0.0;
+        for (int i = 0; i < nx; i++) la += ctl->row[i] * k->S[i] * a[i];
+        if (!rc && la != 0.0) {
+            for (int i = 0; i < n; i++) b[i] = a[i] / la;   /* x = K0^-1 l / (l . K0^-1 l) */
+            *musign = la > 0.0 ? -1.0 : 1.0;                /* mu = -1 / la */
+        } else if (!rc) {
+            rc = SF_ENUMERIC;
+        }
+    }
+    q->eps_anchor = 0.0;
+    *amp = 0.0;
+    for (int f = 0; !rc && f < q->m->nfolds; f++) {
+        int i = q->m->qoff[f];
+        *amp = fmax(*amp, fabs(b[i] * k->S[i]));
+    }
+    free(a);
+    free(b);
+    if (rc && rc != SF_ENOMEM)
+        return sf_fail(err, SF_ENUMERIC, "flat start: the first-order response is singular");
+    return rc;
+}
+
+/* Minimise under control ctl from y (in/out) and *mu, counting. */
+static int minimise(start_ctx *c, const fs_control *ctl, double *y, double *mu, fs_alm_result *r,
+                    sf_error *err)
+{
+    int rc = fs_alm(&c->k, ctl, y, mu, c->o->branch, c->o->tol, r, err);
+    add_stats(c, r);
+    return rc;
+}
+
+/* The driving's own minimisation from y (the flat state or a branch):
+ * the amount of folding rel (row . (x - x0), or dp for a displacement
+ * parameter), reduced where |p1 - p0| would exceed dp_max.  y, *mu
+ * in/out. */
+static int drive(start_ctx *c, double *y, double *mu, double *relp, fs_alm_result *r,
+                 sf_error *err)
+{
+    sf_equil *q = c->q;
+    /* the work function Psi = Pi(p0 + 1) - Pi(p0) at the flat state
+     * (start_alm.c): the amount of folding is measured from it */
+    double a, b, rr, rt;
+    sf_equil_report(q, c->y0, c->p0 + 1.0, &a, &rr, &rt);
+    sf_equil_report(q, c->y0, c->p0, &b, &rr, &rt);
+    double r0 = a - b;
+    int fixed = q->disp_row >= 0;
+    double rel = *relp;
+    double eps0 = 0.0;   /* the first run starts compliant; a rerun as stiff as it ended */
+    for (int tries = 0; tries < 4; tries++) {
+        fs_control ctl = {fixed ? FS_FIXED : FS_PARAM, fixed ? NULL : c->row, r0 + rel,
+                          fixed ? c->p0 + rel : c->p0, eps0};
+        int rc = minimise(c, &ctl, y, mu, r, err);
+        *relp = rel;
+        if (rc || !r->closed) return rc;
+        double dp = fixed ? rel : *mu;
+        if (fabs(dp) <= c->o->dp_max * (1.0 + 1e-12) || dp * c->dir <= 0.0) return SF_OK;
+        /* too far along the path: less folding, from the state scaled back */
+        double f = 0.9 * c->o->dp_max / fabs(dp);
+        for (int i = 0; i < c->k.nx; i++) y[i] = c->y0[i] + f * (y[i] - c->y0[i]);
+        *mu *= f;
+        rel *= f;
+        eps0 = r->eps;
+    }
+    return SF_OK;
+}
+
+int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_start_opts *o,
+                  double *y1, double *p1, sf_start_info *info, sf_error *err)
+{
+    memset(info, 0, sizeof *info);
+    double t0 = now();
+    start_ctx c;
+    memset(&c, 0, sizeof c);
+    c.q = q;
+    c.o = o;
+    c.y0 = y0;
+    c.p0 = p0;
+    c.dir = dir >= 0 ? 1 : -1;
+    c.info = info;
+    const sf_model *m = q->m;
+    const char *path = m->study->path;
+    int n = q->n, nx = q->nq;
+    int rc = fs_kkt_init(&c.k, q, err);
+    double *yb = malloc(sizeof(double) * ((size_t)n + 1));
+    double *best = malloc(sizeof(double) * ((size_t)n + 1));
+    double *pin = calloc((size_t)nx + 1, sizeof(double));
+    c.row = calloc((size_t)nx + 1, sizeof(double));
+    if (!rc && (!yb || !best || !pin || !c.row)) rc = sf_fail(err, SF_ENOMEM, "out of memory");
+    /* the driving's control: dF/dp at the flat state */
+    if (!rc) {
+        q->eps_anchor = 0.0;
+        rc = fs_kkt_eval(&c.k, y0, p0, err);
+    }
+    double rowmax = 0.0, r0 = 0.0;
+    if (!rc) {
+        for (int i = 0; i < nx; i++) {
+            c.row[i] = c.k.Fp[i];
+            rowmax = fmax(rowmax, fabs(c.row[i] * c.k.S[i]));
+            r0 += c.row[i] * y0[i];
+        }
+    }
+    if (!rc && q->disp_row < 0 && !(rowmax > 1e-12)) {
+        /* in-plane loads: no first-order work, the flat sheet carries them */
+        info->verdict = SF_FOLD_FLAT;
+        memcpy(y1, y0, sizeof(double) * (size_t)n);
+        *p1 = p0;
+        snprintf(info->note, sizeof info->note, "flat start: the driving does no work on the "
+                 "fold angles at first order (in-plane loads): the path starts along the flat "
+                 "sheet");
+        goto done;
+    }
+    double mu = 0.0, amp = 0.0, musign = 1.0;
+    fs_alm_result r;
+    memset(&r, 0, sizeof r);
+    if (!rc) {
+        fs_control ctl = {q->disp_row >= 0 ? FS_FIXED : FS_PARAM, c.row, 1.0, p0, 0.0};
+        rc = unit_response(&c, &ctl, &amp, &musign, err);
+    }
+    if (!rc && !(amp > 0.0))
+        rc = sf_fail(err, SF_EINPUT, "%s: the driving does not fold the sheet at first order "
+                     "(its response keeps every fold flat)", path);
+    double target = 0.0;
+    if (!rc) {
+        target = c.dir * musign * o->flat_angle / amp;
+        memcpy(yb, y0, sizeof(double) * (size_t)n);
+        rc = drive(&c, yb, &mu, &target, &r, err);
+    }
+    int followed = -1;   /* 0: the driving's, f + 1: fold f's */
+    if (!rc && r.closed) {
+        followed = 0;
+        info->symmetric = r.saddle;
+        memcpy(best, yb, sizeof(double) * (size_t)n);
+        note_branch(&c, best);
+    } else if (!rc) {
+        info->blocked = 1;
+    }
+    /* the sheet's own branches: each fold folded alone */
+    double best_score = -1.0, best_mu = mu;
+    if (!rc && (o->census || info->blocked)) {
+        double *yc = malloc(sizeof(double) * ((size_t)n + 1));
+        if (!yc) rc = sf_fail(err, SF_ENOMEM, "out of memory");
+        for (int f = 0; !rc && f < m->nfolds; f++) {
+            int i = m->qoff[f];
+            memset(pin, 0, sizeof(double) * (size_t)nx);
+            pin[i] = 1.0;
+            fs_control ctl = {FS_PIN, pin, y0[i] + o->flat_angle, p0, 0.0};
+            memcpy(yc, y0, sizeof(double) * (size_t)n);
+            double mf = 0.0;
+            fs_alm_result rf;
+            rc = minimise(&c, &ctl, yc, &mf, &rf, err);
+            if (rc == SF_ENUMERIC) { sf_error_clear(err); rc = SF_OK; continue; }
+            if (rc || !rf.closed) continue;
+            info->singles++;
+            note_branch(&c, yc);
+            if (followed == 0) continue;
+            /* the driving's work on it per unit of bending energy */
+            double w = 0.0, Pi, Pi0, rr, rt;
+            for (int j = 0; j < nx; j++) w += c.row[j] * (yc[j] - y0[j]);
+            sf_equil_report(q, yc, p0, &Pi, &rr, &rt);
+            sf_equil_report(q, y0, p0, &Pi0, &rr, &rt);
+            double score = Pi - Pi0 > 0.0 ? w * w / (Pi - Pi0) : 0.0;
+            if (score > best_score * (1.0 + 1e-9)) {
+                best_score = score;
+                followed = f + 1;
+                /* the mirror image where the driving works against it */
+                double sg = (w * musign * c.dir > 0.0) ? 1.0 : -1.0;
+                for (int j = 0; j < n; j++) best[j] = j < nx ? y0[j] + sg * (yc[j] - y0[j]) : 0.0;
+            }
+        }
+        free(yc);
+        if (!rc && info->blocked && followed > 0) {
+            /* the driving's minimisation from that branch */
+            memcpy(yb, best, sizeof(double) * (size_t)n);
+            best_mu = 0.0;
+            rc = drive(&c, yb, &best_mu, &target, &r, err);
+            if (!rc && r.closed) {
+                mu = best_mu;
+                memcpy(best, yb, sizeof(double) * (size_t)n);
+            } else if (!rc) {
+                followed = -1;
+            }
+        }
+    }
+    info->branches = c.nbr;
+    info->factorisations = c.k.nfact;
+    if (rc) goto done;
+    if (followed < 0) {
+        info->verdict = SF_FOLD_UNDECIDED;
+        rc = sf_fail(err, SF_ENUMERIC, "%s: flat start: no closed state near the flat sheet along "
+                     "the driving's response (loop residual %.2g after %d Newton steps)%s; the "
+                     "sheet may not fold with rigid faces and exact loop closure: try "
+                     "solver.constraints = \"penalty\" (compliant loops)", path, r.gres,
+                     info->newton, info->singles || o->census || info->blocked
+                         ? ", nor with any fold folded alone" : "");
+        goto done;
+    }
+    double dp = mu;
+    if (q->disp_row >= 0) dp = target;
+    if (dp * c.dir <= 0.0) {
+        info->verdict = SF_FOLD_UNDECIDED;
+        rc = sf_fail(err, SF_ENUMERIC, "%s: flat start: the closed state the driving reaches needs "
+                     "the parameter to move against the path's direction (dp = %.3g)", path, dp);
+        goto done;
+    }
+    info->verdict = SF_FOLD_FOLDABLE;
+    info->from_fold = followed;
+    memcpy(y1, best, sizeof(double) * (size_t)n);
+    *p1 = p0 + dp;
+    info->p1 = *p1;
+    info->amplitude = fold_amplitude(m, y1);
+    info->residual = r.gres;
+    info->against = against_assignment(m, y1);
+    {
+        char buf[600];
+        int o2 = 0;
+        if (followed == 0)
+            o2 += snprintf(buf + o2, sizeof buf - (size_t)o2, "the driving's own branch");
+        else
+            o2 += snprintf(buf + o2, sizeof buf - (size_t)o2, "the driving's response is blocked "
+                           "(no closed state near it); of the branches found by folding each "
+                           "fold alone, the one on which the driving does the most work (reached "
+                           "from fold %d)", followed);
+        if (info->symmetric)
+            o2 += snprintf(buf + o2, sizeof buf - (size_t)o2, "; symmetric driving: the state it "
+                           "selects is a saddle, left along its direction of negative curvature "
+                           "(branch %d of 2 mirror images, solver.flat_branch)", o->branch);
+        if (info->against)
+            snprintf(buf + o2, sizeof buf - (size_t)o2, "; %d folds turn against their "
+                     "assignment", info->against);
+        snprintf(info->note, sizeof info->note, "flat start: foldable: %d branch%s found%s; "
+                 "following %s: first point at p = %.6g, largest fold angle %.4g rad (%d Newton "
+                 "steps, %d outer iterations)", c.nbr, c.nbr == 1 ? "" : "es",
+                 info->singles ? " (with each fold folded alone)" : "", buf, *p1,
+                 info->amplitude, info->newton, info->outer);
+    }
+done:
+    info->seconds = now() - t0;
+    q->eps_anchor = 0.0;
+    fs_kkt_free(&c.k);
+    free(c.row);
+    free(c.dirs);
+    free(yb);
+    free(best);
+    free(pin);
+    return rc;
+}
