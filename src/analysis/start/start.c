@@ -11,6 +11,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "equilibrium_poses.h"
 #include "study.h"
 
 /* Two branches are the same when their unit fold-angle directions (sign
@@ -28,6 +29,7 @@ typedef struct start_ctx {
     sf_start_info *info;
     int nbr;                 /* distinct branches found, their directions */
     double *dirs;            /* nbr x nfolds */
+    unsigned char *rot;      /* ncon: 1 for the rotation rows of the loops */
 } start_ctx;
 
 static double now(void)
@@ -99,8 +101,57 @@ static int against_assignment(const sf_model *m, const double *y)
     return n;
 }
 
-/* The first-order response to a unit amount of the control, from the flat
- * state with the loops as compliant as in the first minimisation: its
+/* The rows' compliances in the method of multipliers (q->anchor_w, a
+ * factor on each row's weight in the equilibrium problem; freed by
+ * sf_start_flat).  The rotation rows of the loops are those of rigid
+ * origami (the rotation part of a smooth fold's map is the rigid one,
+ * MODEL.md 3), independent of band widths and shape modes; the
+ * translation rows are the bands' own.  The minimisation runs in two
+ * phases, a homotopy from rigid origami to smooth folds: first with the
+ * rotation rows ROT_STIFF_* times stiffer than the translation rows, so
+ * that the compliant sheet folds as rigid origami and only its bands'
+ * translations give; then, from there, with every row at its own scale,
+ * where the fold angles may leave rigid origami's ratios as much as the
+ * bands need.  With equal weights from the start the shape modes close
+ * the translations first and the sheet can end where its rotations cannot
+ * close (Miura sheets of 4 x 4 and 8 x 8 cells in face poses); with stiff
+ * rotations alone the translations cannot close where the bands need the
+ * fold angles off rigid origami's (a 2 x 2 Miura sheet).  The factors
+ * are measured, not derived: in fold coordinates 1e2 (1e4 and more left
+ * the 4 x 4 Miura sheet's actuation unclosed), in face poses, where every
+ * fold's rows are of first order at the flat state, 1e6 (1e2 left the
+ * 8 x 8 sheet's unclosed). */
+#define ROT_STIFF_FOLDS 1e2
+#define ROT_STIFF_POSES 1e6
+static int row_weights(start_ctx *c, sf_error *err)
+{
+    sf_equil *q = c->q;
+    const sf_model *m = q->m;
+    free(q->anchor_w);
+    q->anchor_w = malloc(sizeof(double) * ((size_t)q->ncon + 1));
+    c->rot = calloc((size_t)q->ncon + 1, 1);
+    if (!q->anchor_w || !c->rot) return sf_fail(err, SF_ENOMEM, "out of memory");
+    for (int r = 0; r < q->ncon; r++) q->anchor_w[r] = 1.0;
+    if (q->pz) {
+        for (int k = 0; k < 6 * m->nfolds; k++) {
+            int r = sf_peq_fold_row(q, k);   /* the constraint row of fold row k, or -1 */
+            if (r >= 0 && k % 6 < 3) c->rot[r] = 1;
+        }
+    } else {
+        for (int r = 0; r < q->nloop; r++) c->rot[r] = r % 6 < 3;
+    }
+    return SF_OK;
+}
+
+static void row_phase(start_ctx *c, int phase)
+{
+    sf_equil *q = c->q;
+    double stiff = q->pz ? ROT_STIFF_POSES : ROT_STIFF_FOLDS;
+    for (int r = 0; r < q->ncon; r++) q->anchor_w[r] = phase == 1 && c->rot[r] ? 1.0 / stiff : 1.0;
+}
+
+/* The first-order response to a unit amount of the control at the flat
+ * state: its
  * largest fold angle per unit (*amp) and the sign of its multiplier
  * (*musign).  For FS_FIXED the response to a unit change of p. */
 static int unit_response(start_ctx *c, const fs_control *ctl, double *amp, double *musign,
@@ -114,7 +165,9 @@ static int unit_response(start_ctx *c, const fs_control *ctl, double *amp, doubl
     if (!b || !a) { free(b); free(a); return sf_fail(err, SF_ENOMEM, "out of memory"); }
     if (!q->lam_anchor) q->lam_anchor = calloc((size_t)q->ncon + 1, sizeof(double));
     memset(q->lam_anchor, 0, sizeof(double) * (size_t)q->ncon);
-    q->eps_anchor = 1.0;
+    /* the rows with a gradient at the flat state enforced (the others have
+     * none there): the same response in either formulation */
+    q->eps_anchor = 1e-10;
     int rc = fs_kkt_eval(k, c->y0, c->p0, err);
     if (!rc) rc = fs_kkt_factor(k, 0.0, err);
     if (!rc && ctl->kind == FS_FIXED) {
@@ -176,7 +229,18 @@ static int drive(start_ctx *c, double *y, double *mu, double *relp, fs_alm_resul
     for (int tries = 0; tries < 4; tries++) {
         fs_control ctl = {fixed ? FS_FIXED : FS_PARAM, fixed ? NULL : c->row, r0 + rel,
                           fixed ? c->p0 + rel : c->p0, eps0};
+        /* first as rigid origami (rotation rows stiff), then with the
+         * bands' own weights (row_weights) */
+        row_phase(c, 1);
         int rc = minimise(c, &ctl, y, mu, r, err);
+        if (!rc && !r->closed) {
+            row_phase(c, 2);
+            /* phase 1's multipliers held its rotations against the bands:
+             * phase 2 starts compliant from its state */
+            memset(y + c->k.nx, 0, sizeof(double) * (size_t)c->k.m);
+            ctl.eps0 = 0.0;
+            rc = minimise(c, &ctl, y, mu, r, err);
+        }
         *relp = rel;
         if (rc || !r->closed) return rc;
         double dp = fixed ? rel : *mu;
@@ -213,7 +277,12 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
     double *pin = calloc((size_t)nx + 1, sizeof(double));
     c.row = calloc((size_t)nx + 1, sizeof(double));
     if (!rc && (!yb || !best || !pin || !c.row)) rc = sf_fail(err, SF_ENOMEM, "out of memory");
+    if (!rc) rc = row_weights(&c, err);
     /* the driving's control: dF/dp at the flat state */
+    if (getenv("FS_ROTW") && !q->anchor_w) {
+        q->anchor_w = malloc(sizeof(double) * ((size_t)q->ncon + 1));
+        for (int r = 0; r < q->ncon; r++) q->anchor_w[r] = (r < q->nloop && r % 6 < 3) ? atof(getenv("FS_ROTW")) : 1.0;
+    }
     if (!rc) {
         q->eps_anchor = 0.0;
         rc = fs_kkt_eval(&c.k, y0, p0, err);
@@ -260,10 +329,11 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
         note_branch(&c, best);
     } else if (!rc) {
         info->blocked = 1;
+        if (getenv("FS_DEBUG")) memcpy(y1, yb, sizeof(double) * (size_t)n);
     }
     /* the sheet's own branches: each fold folded alone */
     double best_score = -1.0, best_mu = mu;
-    if (!rc && (o->census || info->blocked)) {
+    if (!rc && (o->census || info->blocked) && !getenv("FS_NOCENSUS")) {
         double *yc = malloc(sizeof(double) * ((size_t)n + 1));
         if (!yc) rc = sf_fail(err, SF_ENOMEM, "out of memory");
         for (int f = 0; !rc && f < m->nfolds; f++) {
@@ -363,9 +433,12 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
 done:
     info->seconds = now() - t0;
     q->eps_anchor = 0.0;
+    free(q->anchor_w);
+    q->anchor_w = NULL;
     fs_kkt_free(&c.k);
     free(c.row);
     free(c.dirs);
+    free(c.rot);
     free(yb);
     free(best);
     free(pin);

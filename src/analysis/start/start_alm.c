@@ -45,7 +45,7 @@
 #define SHIFT_MAX 1e12
 #define INNER_MAX 60         /* Newton iterations per minimisation */
 #define NEWTON_MAX 600       /* in all */
-#define EPS_FIRST 1.0        /* loops as compliant as the folds */
+#define EPS_FIRST 1e-3        /* the first proximal weight: loops 1000 times stiffer than folds */
 #define EPS_MIN 1e-13
 #define ARMIJO 1e-4
 #define INVIT 40             /* inverse iterations for negative curvature */
@@ -123,7 +123,7 @@ static int merit(fs_kkt *k, const fs_control *c, const double *y, double mu, dou
     if (rows_at(k, c, y, mu, ya, F)) return SF_ENUMERIC;
     double eps = q->eps_anchor, v = 0.0;
     for (int r = 0; r < m; r++) {
-        double g = F[nx + r], w = q->yscale[nx + r] / q->fscale[nx + r];
+        double g = F[nx + r], w = sf_equil_row_eps(q, 1.0, r) * q->yscale[nx + r] / q->fscale[nx + r];
         v += q->lam_anchor[r] * g + g * g / (2.0 * eps * w);
         ya[nx + r] = q->lam_anchor[r] + g / (eps * w);   /* the multipliers Phi implies */
     }
@@ -179,6 +179,7 @@ static int factor_inertia(fs_kkt *k, const fs_control *c, const double *lh, doub
             if (rc == SF_ENOMEM) return rc;
             if (rc == SF_OK) neg += schur < 0.0;
         }
+        if (getenv("FS_DEBUG")) fprintf(stderr, "   factor shift %.2g rc %d neg %d (K0 %d) target %d\n", s, rc, neg, k->neg, target);
         if (rc == SF_OK && neg == target) {
             *shift = s;
             *shifted = s > 0.0;
@@ -269,7 +270,7 @@ int fs_alm(fs_kkt *k, const fs_control *c, double *y, double *mu, int branch, do
         q->eps_anchor = eps;
         res->outer = outer + 1;
         int conv = 0;
-        for (int it = 0; it < INNER_MAX && res->newton < NEWTON_MAX; it++) {
+        for (int it = 0; it < INNER_MAX && res->newton < (getenv("FS_MAXNEWTON") ? atoi(getenv("FS_MAXNEWTON")) : NEWTON_MAX); it++) {
             double rrow, rn;
             if (residual(k, c, y, *mu, R, &rrow, &rn)) { rc = SF_ENUMERIC; break; }
             if (c->kind != FS_FIXED) rn = fmax(rn, fabs(rrow) / beta);
@@ -340,7 +341,13 @@ int fs_alm(fs_kkt *k, const fs_control *c, double *y, double *mu, int branch, do
         /* the constraint residual (scaled rows), with the anchor moved */
         if (rows_at(k, c, y, *mu, ya, F)) { rc = SF_ENUMERIC; break; }
         double gres = 0.0;
-        for (int r = 0; r < m; r++) gres = fmax(gres, fabs(F[nx + r] * q->fscale[nx + r]));
+        int worst = -1;
+        for (int r = 0; r < m; r++) if (fabs(F[nx + r] * q->fscale[nx + r]) > gres) { gres = fabs(F[nx + r] * q->fscale[nx + r]); worst = r; }
+        if (getenv("FS_DEBUG")) {
+            fprintf(stderr, " worst row %d (of %d):", worst, m);
+            for (int r = 0; r < m; r++) if (fabs(F[nx + r] * q->fscale[nx + r]) > 0.2 * gres) fprintf(stderr, " %d:%.1e", r, F[nx + r] * q->fscale[nx + r]);
+            fprintf(stderr, "\n");
+        }
         res->gres = gres;
         res->eps = eps;
         if (getenv("FS_DEBUG")) fprintf(stderr, " outer %d done: conv %d gres %.3e eps %.1e newton %d\n", outer, conv, gres, eps, res->newton);
@@ -353,7 +360,7 @@ int fs_alm(fs_kkt *k, const fs_control *c, double *y, double *mu, int branch, do
          * already much stiffer than the folds */
         stall = conv && gres <= 1e-6 && gres > 0.5 * gprev && eps <= 1e-8 ? stall + 1 : 0;
         if (stall >= 3) { res->closed = 1; break; }
-        if (res->newton >= NEWTON_MAX) break;
+        if (res->newton >= (getenv("FS_MAXNEWTON") ? atoi(getenv("FS_MAXNEWTON")) : NEWTON_MAX)) break;
         if (!conv || gres > 0.25 * gprev) eps *= 0.1;
         gprev = fmin(gprev, gres);
         if (eps < EPS_MIN) { res->blocked = 1; break; }

@@ -16,7 +16,7 @@
  * in every block), factorised with a shift on its coordinate block:
  * K0 + shift [I 0; 0 0].  Dense LAPACK (Bunch-Kaufman) up to FS_DENSE_MAX
  * unknowns, MUMPS LDL^T (ldlt.h) above; both give the inertia. */
-#define FS_DENSE_MAX 1500
+#define FS_DENSE_MAX 600
 
 typedef struct fs_kkt {
     sf_equil *q;

@@ -48,7 +48,7 @@ int fs_kkt_init(fs_kkt *k, sf_equil *q, sf_error *err)
     } else {
         k->diag = malloc(sizeof(int) * ((size_t)k->n + 1));
         if (!k->diag) return sf_fail(err, SF_ENOMEM, "out of memory");
-        if (sf_ldlt_create(&k->ld, 0.0, err)) return err->code;
+        if (sf_ldlt_create(&k->ld, 1e-300, err)) return err->code;
     }
     return SF_OK;
 }
