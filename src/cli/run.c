@@ -54,6 +54,8 @@ static void run_release(run_ctx *r)
     sf_reactions_free(&r->reac);
     sf_pvd_free(&r->pvd);
     sf_foldrec_free(&r->foldrec);
+    sf_validity_free(r->val);
+    r->val = NULL;
 }
 
 /* The fold formulation's flat start, chosen by "auto" for a small sheet,
@@ -168,6 +170,12 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
         printf("%s: %ld points, %ld Newton iterations, %.3g s; results in %s\n", sc.study.name,
                r.npoints, r.tot.newton_iters, now() - t0, r.dir);
         sf_compare_print(r.cmp, stdout);
+    }
+    if ((!rc || rc == SF_ENUMERIC) && r.npoints > 0) {
+        /* said even with --quiet: a warning about the results */
+        char vline[1500];
+        run_validity_summary(&r, vline, sizeof vline);
+        if (vline[0]) fprintf(stderr, "smoothfold: warning: %s\n", vline);
     }
     if (!rc && r.compared) rc = sf_compare_check(r.cmp, err);
     if (!rc && r.short_stop)
