@@ -12,6 +12,7 @@ typedef struct sf_options {
     int nset;
     const char *angles;
     int quiet;
+    int verbose;      /* check: every vertex, not only those that matter */
     int force;        /* run: write into a directory holding other files */
     int plot;         /* run: 1 draw plots, 0 do not, -1 as output.plots says */
     double tol;       /* compare: --tol (when have_tol) */
