@@ -13,6 +13,7 @@
 #include "kinematics.h"
 #include "mobility.h"
 #include "outdir.h"
+#include "progress.h"
 #include "scene.h"
 #include "study.h"
 #include "topology.h"
@@ -76,10 +77,13 @@ static void print_vertex_group(const sf_scene *sc, const sf_mobility *mb, int do
 /* Degrees of freedom left by exact loop closure (src/analysis/mobility.h):
  * the verdict, the vertices that matter (locked, undecided), and with
  * verbose every vertex's own. */
-static int print_mobility(const sf_scene *sc, int verbose, sf_error *err)
+static int print_mobility(const sf_scene *sc, int verbose, sf_progress *progress, sf_error *err)
 {
     sf_mobility mb;
+    sf_progress_phase(progress, 0, "check: mobility of the whole sheet (%d coordinates) and of its %d "
+                      "interior vertices alone", sc->model.nq, sc->topo.nivertices);
     if (sf_mobility_analyse(&sc->model, NULL, &mb, err)) return err->code;
+    sf_progress_phase(progress, 0, "check: writing the summary");
     const sf_study *s = &sc->study;
     const sf_topology *t = &sc->topo;
     print_mobility_verdict(sc, &mb);
@@ -128,6 +132,7 @@ static void print_vertices(const sf_study *s, const sf_topology *t, int verbose)
 int sf_cmd_check(const sf_options *o, sf_error *err)
 {
     sf_scene sc;
+    sf_progress_phase(o->progress, 0, "check: reading the study, building the sheet (faces, bands, model)");
     if (sf_scene_open(&sc, o->study_path, o->nset, o->sets, err)) {
         sf_scene_close(&sc);
         return err->code;
@@ -181,11 +186,12 @@ int sf_cmd_check(const sf_options *o, sf_error *err)
         if (p.fold >= 0) printf("on the band of fold %d\n", p.fold + 1);
         else printf("on face %d\n", p.face + 1);
     }
-    if (t->nivertices > 0 && print_mobility(&sc, o->verbose, err)) {
+    if (t->nivertices > 0 && print_mobility(&sc, o->verbose, o->progress, err)) {
         sf_scene_close(&sc);
         return err->code;
     }
     printf("analysis: %s\n", s->analysis_type);
+    sf_progress_phase(o->progress, 0, "check: reading the reference files");
     sf_compare *cmp = NULL;     /* reference files: read and checked here too */
     int rc = sf_compare_open(&cmp, s, err);
     if (!rc) sf_compare_print_files(cmp, stdout);

@@ -18,6 +18,8 @@ typedef struct sf_options {
     double tol;       /* compare: --tol (when have_tol) */
     int have_tol;
     const char *folds; /* plot: --folds selection */
+    struct sf_progress *progress;  /* run, check: the progress reporter
+                                      (progress.h), NULL when quiet */
 } sf_options;
 
 int sf_cmd_check(const sf_options *o, sf_error *err);

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "commands.h"
+#include "progress.h"
 #include "kinematics.h"
 #include "study.h"
 #include "topology.h"
@@ -218,11 +219,20 @@ static int dispatch(const command *cmd, char **args, sf_options *opt)
         rc = sf_cmd_compare(args[0], args[1], opt, &err);
     } else {
         opt->study_path = args[0];
+        /* a line on stderr at least every 5 s of run or check */
+        if (strcmp(cmd->name, "shape") != 0) {
+            /* SMOOTHFOLD_PROGRESS_PERIOD: another period in seconds, for tests */
+            const char *pe = getenv("SMOOTHFOLD_PROGRESS_PERIOD");
+            double period = pe && atof(pe) > 0 ? atof(pe) : 5.0;
+            opt->progress = sf_progress_start(opt->quiet, period);
+        }
         if (strcmp(cmd->name, "check") == 0) rc = sf_cmd_check(opt, &err);
         else if (strcmp(cmd->name, "shape") == 0) rc = sf_cmd_shape(opt, &err);
         else rc = sf_cmd_run(opt, &err);
         if (rc == SF_OK && strcmp(cmd->name, "run") == 0)
             rc = sf_cli_convergence(opt, &err);  /* analysis.convergence: K+1 */
+        sf_progress_stop(opt->progress);
+        opt->progress = NULL;
         if (rc == SF_OK && strcmp(cmd->name, "run") == 0)
             rc = sf_cli_run_plots(opt, &err);   /* --plot, output.plots */
     }

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "equilibrium_poses.h"
+#include "progress.h"
 #include "run_impl.h"
 
 /* Probe displacements of a state. */
@@ -197,6 +198,8 @@ int run_on_point(const cont_point *pt, void *data)
     }
     sf_equil *eq = &r->eq;
     if (r->do_stab) {
+        sf_progress_phase(r->opt->progress, 0, "run: stability of point %ld (p = %.6g, %d unknowns)",
+                          r->npoints, pt->p, eq->n);
         if (sf_stab_eval(&r->stab, eq, pt->y, pt->p, r->err)) {
             r->failed = 1;
             return 1;
@@ -364,5 +367,8 @@ int run_write_point(run_ctx *r, const cont_point *pt)
     }
     r->npoints++;
     sf_bif_point_written(&r->bif, pt, sarc);
+    sf_progress_phase(r->opt->progress, 0, "run: following the path: point %ld, from p = %.6g",
+                      r->npoints, pt->p);
+    if (!r->opt->quiet) sf_progress_printed(r->opt->progress);
     return 0;
 }
