@@ -331,7 +331,8 @@ static int tree_pairs(sf_validity *v, sf_validity_report *rep, sf_error *err)
     if (!props) return sf_fail(err, SF_ENOMEM, "validity check: libspatialindex: no index properties");
     IndexProperty_SetIndexType(props, RT_RTree);
     IndexProperty_SetIndexStorage(props, RT_Memory);
-    IndexProperty_SetIndexVariant(props, RT_Star);
+    IndexProperty_SetIndexVariant(props, RT_Quadratic);
+    IndexProperty_SetFillFactor(props, 0.4);
     IndexProperty_SetDimension(props, 3);
     IndexH idx = Index_Create(props);
     IndexProperty_Destroy(props);

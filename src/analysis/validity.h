@@ -23,10 +23,12 @@
  * curves over its whole width), only through the loop gaps of the
  * penalty method or the polygonal bands.
  *
- * Cost: the parts' bounding boxes in an R*-tree (libspatialindex, built
- * anew for each state: O(n log n) in the parts), each part's box queried
- * for the boxes it overlaps, triangle pairs of overlapping parts tested
- * where their own boxes overlap (bench/validity-cost.sh). */
+ * Cost: the parts' bounding boxes in an R-tree (libspatialindex,
+ * quadratic split, built anew for each state: O(n log n) in the parts),
+ * each part's box queried for the boxes it overlaps, triangle pairs of
+ * overlapping parts tested where their own boxes overlap
+ * (bench/validity-cost.sh: 0.09 s on 16 x 16 Miura cells, 3008 parts;
+ * the library's insertions and queries take about half of it). */
 #ifndef SF_VALIDITY_H
 #define SF_VALIDITY_H
 
