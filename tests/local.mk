@@ -41,6 +41,7 @@ include tests/pattern.mk
 include tests/boundary.mk
 include tests/multibp.mk
 include tests/creaselimit.mk
+include tests/validity.mk
 # sweeps, serially and under mpirun (src/analysis/sweep.h, docs/sweep.md)
 check_PROGRAMS += tests/test_sweep_plan
 TESTS += tests/test_sweep_plan tests/test_sweep.sh

@@ -26,4 +26,5 @@ src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibri
 	src/analysis/boundary.c src/analysis/boundary.h \
 	src/analysis/sweep.c src/analysis/sweep_run.c src/analysis/sweep.h \
 	src/analysis/multibp.c src/analysis/multibp.h \
-	src/analysis/flatswitch.c src/analysis/flatswitch_follow.c src/analysis/flatswitch.h
+	src/analysis/flatswitch.c src/analysis/flatswitch_follow.c src/analysis/flatswitch.h \
+	src/analysis/validity.c src/analysis/validity.h src/analysis/tritri.c src/analysis/tritri.h

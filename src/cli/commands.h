@@ -12,11 +12,14 @@ typedef struct sf_options {
     int nset;
     const char *angles;
     int quiet;
+    int verbose;      /* check: every vertex, not only those that matter */
     int force;        /* run: write into a directory holding other files */
     int plot;         /* run: 1 draw plots, 0 do not, -1 as output.plots says */
     double tol;       /* compare: --tol (when have_tol) */
     int have_tol;
     const char *folds; /* plot: --folds selection */
+    struct sf_progress *progress;  /* run, check: the progress reporter
+                                      (progress.h), NULL when quiet */
 } sf_options;
 
 int sf_cmd_check(const sf_options *o, sf_error *err);

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "commands.h"
+#include "progress.h"
 #include "kinematics.h"
 #include "study.h"
 #include "topology.h"
@@ -61,6 +62,7 @@ static const char *usage_text =
     "      --folds=LIST        plot, run --plot: folds drawn in angles.png (names,\n"
     "                          groups, numbers, or all)\n"
     "  -q, --quiet             no progress lines\n"
+    "  -v, --verbose           check: every interior vertex (default: a summary)\n"
     "  -h, --help              show this help and exit\n"
     "  -V, --version           show the version and exit\n"
     "\n"
@@ -81,10 +83,13 @@ typedef struct command {
 
 static const command commands[] = {
     {"check", 1, "STUDY.cfg",
-     "Usage: smoothfold check STUDY.cfg [--set KEY=VALUE]...\n"
-     "Validate a study and print a summary of its sheet: faces, folds, vertices,\n"
-     "the fixed face, constraints, loads, probes, the degrees of freedom the\n"
-     "loop constraints leave, and the reference files.\n"
+     "Usage: smoothfold check STUDY.cfg [--set KEY=VALUE]... [--verbose] [-q]\n"
+     "Validate a study and print a summary of its sheet: faces, folds, vertices\n"
+     "by degree, the fixed face, constraints, loads, probes, the mobility verdict\n"
+     "(the degrees of freedom the loop constraints leave), the vertices that\n"
+     "matter (locked or undecided under their own loops), and the reference files.\n"
+     "--verbose: every interior vertex by name, and each one's own mobility.\n"
+     "Long analyses say on stderr every 5 s what they are doing (not with -q).\n"
      "Exit status: 0 valid, 1 bad input (one line naming file, line, problem).\n"},
     {"shape", 1, "STUDY.cfg",
      "Usage: smoothfold shape STUDY.cfg -o FILE.vtp [--angles=LIST] [--set KEY=VALUE]...\n"
@@ -214,11 +219,20 @@ static int dispatch(const command *cmd, char **args, sf_options *opt)
         rc = sf_cmd_compare(args[0], args[1], opt, &err);
     } else {
         opt->study_path = args[0];
+        /* a line on stderr at least every 5 s of run or check */
+        if (strcmp(cmd->name, "shape") != 0) {
+            /* SMOOTHFOLD_PROGRESS_PERIOD: another period in seconds, for tests */
+            const char *pe = getenv("SMOOTHFOLD_PROGRESS_PERIOD");
+            double period = pe && atof(pe) > 0 ? atof(pe) : 5.0;
+            opt->progress = sf_progress_start(opt->quiet, period);
+        }
         if (strcmp(cmd->name, "check") == 0) rc = sf_cmd_check(opt, &err);
         else if (strcmp(cmd->name, "shape") == 0) rc = sf_cmd_shape(opt, &err);
         else rc = sf_cmd_run(opt, &err);
         if (rc == SF_OK && strcmp(cmd->name, "run") == 0)
             rc = sf_cli_convergence(opt, &err);  /* analysis.convergence: K+1 */
+        sf_progress_stop(opt->progress);
+        opt->progress = NULL;
         if (rc == SF_OK && strcmp(cmd->name, "run") == 0)
             rc = sf_cli_run_plots(opt, &err);   /* --plot, output.plots */
     }
@@ -245,6 +259,7 @@ int main(int argc, char **argv)
         {"tol", required_argument, NULL, OPT_TOL},
         {"folds", required_argument, NULL, OPT_FOLDS},
         {"quiet", no_argument, NULL, 'q'},
+        {"verbose", no_argument, NULL, 'v'},
         {"help", no_argument, NULL, 'h'},
         {"version", no_argument, NULL, 'V'},
         {NULL, 0, NULL, 0},
@@ -270,7 +285,7 @@ int main(int argc, char **argv)
     int c, help = 0, status = -1;
     char msg[512];
     opterr = 0;   /* messages here, under the program's name */
-    while (status < 0 && (c = getopt_long(argc, argv, ":o:qhV", longopts, NULL)) != -1) {
+    while (status < 0 && (c = getopt_long(argc, argv, ":o:qvhV", longopts, NULL)) != -1) {
         switch (c) {
         case 'o': opt.output = optarg; break;
         case OPT_SET:
@@ -291,6 +306,7 @@ int main(int argc, char **argv)
             break;
         }
         case 'q': opt.quiet = 1; break;
+        case 'v': opt.verbose = 1; break;
         case 'h': help = 1; break;
         case 'V':
             printf("smoothfold %s\n", PACKAGE_VERSION);

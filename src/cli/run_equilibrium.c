@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "equilibrium_poses.h"
+#include "progress.h"
 #include "flatswitch.h"
 #include "mobility.h"
 #include "run_impl.h"
@@ -232,6 +233,15 @@ static int choose_keys(run_ctx *r, const char **form, const char **norm)
     return SF_OK;
 }
 
+/* Every evaluation of the equations counts as progress (the param hook
+ * is called by each residual, Jacobian and report). */
+static void count_eval(sf_equil *q, double p, void *data)
+{
+    (void)q;
+    (void)p;
+    sf_progress_eval(data);
+}
+
 int run_equilibrium(run_ctx *r)
 {
     sf_scene *sc = r->sc;
@@ -252,6 +262,10 @@ int run_equilibrium(run_ctx *r)
     if (sf_equil_init(&r->eq, &sc->model, ptype, gi, pi, ci, load, err))
         return err->code;
     sf_equil *eq = &r->eq;
+    if (r->opt->progress && !eq->param_hook) {
+        eq->param_hook = count_eval;
+        eq->param_hook_data = r->opt->progress;
+    }
     sf_reactions_init(&r->reac, ptype == SF_PARAM_DISPLACEMENT ? pi : -1);
     if (s->constraints == SF_CONSTRAINTS_PENALTY)
         sf_equil_use_penalty(eq, s->penalty_rotation, s->penalty_translation);
@@ -347,6 +361,8 @@ int run_equilibrium(run_ctx *r)
         free(y0);
         return err->code;
     }
+    sf_progress_phase(r->opt->progress, 0, "run: the first point of the path, from p = %g%s", start,
+                      F0norm <= flat_tol ? " (the flat state)" : "");
     if ((eq->pz ? sc->topo.nivertices > 0 : eq->nloop > 0) && F0norm <= flat_tol) {
         if (start_at_flat(r, y0, start, end, dir, depth, flat_angle, &rc)) {
             free(y0);

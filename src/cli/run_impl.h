@@ -15,6 +15,7 @@
 #include "reactions.h"
 #include "scene.h"
 #include "stability.h"
+#include "validity.h"
 #include "vtk.h"
 
 #ifndef PACKAGE_VERSION
@@ -72,6 +73,15 @@ typedef struct run_ctx {
      * checked at every written point */
     double drop_max;      /* largest scaled residual of a dropped row */
     long drop_bad;        /* points where it exceeded the Newton tolerance */
+    /* physical validity of every point written (validity.h): the warning
+     * column of branch.tsv, and the summary at the end of the run */
+    sf_validity *val;
+    long val_beyond_rows, val_cross_rows;  /* rows with folds beyond 180 deg, crossings */
+    long val_first_beyond, val_first_cross;  /* their first rows (-1: none) */
+    sf_validity_report val_worst_beyond;   /* the row with the fold farthest beyond */
+    sf_validity_report val_worst_cross;    /* the row with the deepest crossing */
+    long val_worst_beyond_row, val_worst_cross_row;
+    double val_worst_beyond_p, val_worst_cross_p;
 } run_ctx;
 
 /* run_equilibrium.c: set up the equilibrium problem and the continuation
@@ -88,6 +98,10 @@ int run_on_point(const cont_point *pt, void *data);
 int run_write_point(run_ctx *r, const cont_point *pt);
 /* run_point.c: a note on a branch, for branch.tsv's header and the terminal. */
 void run_branch_note(run_ctx *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* run_point.c: the physical-validity summary of the run (validity.h):
+ * one line, "" when every point is valid. */
+void run_validity_summary(const run_ctx *r, char *buf, size_t size);
 
 /* run_output.c: write DIR/branch.tsv, stats.csv, special.tsv and the rest. */
 int run_write_outputs(run_ctx *r);

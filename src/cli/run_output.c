@@ -42,6 +42,9 @@ int run_write_outputs(run_ctx *r)
                          "rank %d = the unknowns, so the dependent ones are equations of their own "
                          "(more rows than unknowns), not identities (docs/formulations.md)\n",
                          6 * r->eq.m->nfolds, sf_peq_rows_rank(&r->eq));
+    char vline[1500];
+    run_validity_summary(r, vline, sizeof vline);
+    if (vline[0]) sf_outbuf_printf(&out, "# warning: %s\n", vline);
     if (r->do_stab && r->step_bound)
         sf_outbuf_printf(&out, "# step bound: %ld steps shortened to end between two predicted "
                          "eigenvalue crossings (analysis.step_bound)\n", r->nbound);
@@ -57,7 +60,7 @@ int run_write_outputs(run_ctx *r)
     sf_outbuf_numbered_columns(&out, "eig", r->nev);
     sf_outbuf_printf(&out, "\ttype");
     sf_outbuf_numbered_columns(&out, "theta", s->nfolds);
-    sf_outbuf_printf(&out, "\n");
+    sf_outbuf_printf(&out, "\twarning\n");
     if (r->rows.n) sf_outbuf_printf(&out, "%.*s", (int)r->rows.n, r->rows.s);
     WRITE("branch.tsv", out);
     out.n = 0;
