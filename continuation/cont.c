@@ -580,6 +580,19 @@ const char *cont_errmsg(const cont_solver *s) { return s ? s->msg : "no solver";
 
 int cont_get_linsol(const cont_solver *s) { return s ? s->linsol : 0; }
 
+int cont_get_factor_stats(const cont_solver *s, cont_factor_stats *fs)
+{
+    memset(fs, 0, sizeof *fs);
+    if (!s || !s->bt.mumps || s->bt.gen == 0) return -1;
+    if (s->bt.blk_active) {
+        ci_blk_factor_stats(&s->bt, fs);
+        fs->ldlt = 1;
+    } else {
+        cont_mumps_factor_stats(s->bt.LS, fs);
+    }
+    return fs->entries > 0 ? 0 : -1;
+}
+
 double cont_get_ds(const cont_solver *s) { return s ? s->ds : 0.0; }
 
 int cont_set_next_step(cont_solver *s, double ds)

@@ -502,6 +502,20 @@ const char *cont_stop_name(int reason);
 const char *cont_errmsg(const cont_solver *s);
 /* The linear solver in use (CONT_LINSOL_DENSE, _KLU or _MUMPS). */
 int cont_get_linsol(const cont_solver *s);
+
+/* What the last factorisation of the tangent/corrector matrix cost, as
+ * MUMPS reports it: the matrix factorised (n: Jy alone for its LDL^T,
+ * ldlt = 1, or the whole bordered matrix for the LU), the entries of its
+ * factors (INFOG(29)), its floating-point operations (RINFOG(3)) and the
+ * pivots it delayed (INFOG(13)).  0, or -1 when there is none (not
+ * factorised yet, or not by MUMPS). */
+typedef struct cont_factor_stats {
+    long n;
+    int ldlt;
+    double entries, flops;
+    long delayed;
+} cont_factor_stats;
+int cont_get_factor_stats(const cont_solver *s, cont_factor_stats *fs);
 /* Step size the next step will try. */
 double cont_get_ds(const cont_solver *s);
 /* Set the step size the next step will try (clamped to [ds_min, ds_max]),

@@ -205,6 +205,7 @@ void ci_bm_apply(const cont_solver *s, const double *c, const double *v, double 
 int ci_bm_det(cont_solver *s, cont_bmat *bm, int *sign, double *logdet);
 int ci_bm_factor(cont_solver *s, cont_bmat *bm, int *sign, double *logdet);
 void ci_bm_free(cont_bmat *bm);
+void ci_blk_factor_stats(const cont_bmat *bm, cont_factor_stats *fs);
 int ci_bm_init(cont_solver *s, cont_bmat *bm, long m, int linsol,
                sunindextype nnz, N_Vector tmpl);
 int ci_bm_solve(cont_solver *s, cont_bmat *bm, N_Vector x, N_Vector b);

@@ -82,6 +82,7 @@ static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, d
     sf_equil *eq = &r->eq;
     sf_error *err = r->err;
     double end = r->p_end;
+    if (!(r->cpu_path0 > 0)) r->cpu_path0 = run_cpu_seconds();
     int rc = cont_run(cs);
     while (staged && rc == CONT_DONE && !r->failed && r->seg_end != end &&
            cont_stop_reason(cs) == (dir > 0 ? CONT_STOP_PMAX : CONT_STOP_PMIN)) {

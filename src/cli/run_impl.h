@@ -37,6 +37,7 @@ typedef struct run_ctx {
     long npoints;
     int failed;
     double s_offset;      /* arclength before the engine's first point */
+    double cpu_path0;     /* process CPU seconds when the path after its start began (0: not yet) */
     cont_solver *solver;
     /* stability */
     int do_stab, nev;
@@ -96,5 +97,8 @@ void run_branch_note(run_ctx *r, const char *fmt, ...) __attribute__((format(pri
 
 /* run_output.c: write DIR/branch.tsv, stats.csv, special.tsv and the rest. */
 int run_write_outputs(run_ctx *r);
+
+/* CPU seconds of the process so far (user + system, every thread). */
+double run_cpu_seconds(void);
 
 #endif
