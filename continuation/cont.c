@@ -482,6 +482,13 @@ int cont_set_newton_steptol(cont_solver *s, double xtol)
     return CONT_OK;
 }
 
+int cont_set_point_inertia(cont_solver *s, int on)
+{
+    NEED(s);
+    s->point_inertia = on != 0;
+    return CONT_OK;
+}
+
 int cont_set_corrector(cont_solver *s, int kind)
 {
     NEED(s);

@@ -313,6 +313,13 @@ void cont_mumps_factor_stats(SUNLinearSolver S, cont_factor_stats *fs)
     fs->delayed = c->factored ? c->id.INFOG(13) : 0;
 }
 
+void cont_mumps_inertia(SUNLinearSolver S, long *neg, long *nnull)
+{
+    const mumps_content *c = CONTENT(S);
+    *neg = c->factored && c->sym ? (long)c->id.INFOG(12) : -1;
+    *nnull = c->factored && c->sym ? (long)c->id.INFOG(28) : -1;
+}
+
 void cont_mumps_counts(SUNLinearSolver S, long *analyses, long *factors, long *relax)
 {
     const mumps_content *c = CONTENT(S);

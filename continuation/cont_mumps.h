@@ -62,6 +62,10 @@ void cont_mumps_single_thread(void);
  * left as it is); zeros without factors. */
 void cont_mumps_factor_stats(SUNLinearSolver S, cont_factor_stats *fs);
 
+/* After a setup of a cont_mumps_sym solver: the negative pivots
+ * (INFOG(12)) and the null ones (INFOG(28)); -1 each without factors. */
+void cont_mumps_inertia(SUNLinearSolver S, long *neg, long *nnull);
+
 /* Counters since creation: analyses, factorisations, workspace relaxations;
  * MUMPS's own timings are not used (none of these may be NULL). */
 void cont_mumps_counts(SUNLinearSolver S, long *analyses, long *factors, long *relax);

@@ -293,6 +293,9 @@ static int eval_arpack(sf_stab *st, sf_error *err)
  * nearly dependent its rows: no QR, no choice of rows.  The converse does
  * not hold (Q can have a negative direction that a constraint removes, a
  * weak row's), so any other inertia leaves the verdict to sstab.h.
+ * On the path the inertia is the engine's (sf_stab_give_inertia: the LDL^T
+ * it made of this Jacobian at this point, cont_set_point_inertia); where
+ * there is none it is factorised here.
  * Not at the flat state (every fold coordinate zero): there the multipliers
  * vanish and HL's pose block is zero, and MUMPS's analysis (which pairs
  * unknowns into 2 x 2 pivots from the values it is given) made for that
@@ -306,6 +309,12 @@ static int corrector_certificate(sf_stab *st, sf_equil *q, const double *y, doub
                                  sf_error *err)
 {
     *ok = 0;
+    if (st->given) {
+        /* the engine's own LDL^T of this Jacobian at this point */
+        st->given = 0;
+        *ok = st->given_null == 0 && st->given_neg == q->ncon;
+        return SF_OK;
+    }
     double amax = 0.0;
     for (int j = 0; j < q->m->nq; j++) amax = fmax(amax, fabs(y[j]));
     if (amax == 0.0) return SF_OK;
@@ -394,10 +403,27 @@ static int eval_sparse_kkt(sf_stab *st, sf_equil *q, const double *y, double p, 
     return SF_OK;
 }
 
+int sf_stab_wants_inertia(const sf_stab *st, const sf_equil *q)
+{
+    return st->sparse_kkt && q->pz && resolved_method(st->method, st->nq) == SF_EIG_INERTIA;
+}
+
+void sf_stab_give_inertia(sf_stab *st, long neg, long nnull)
+{
+    st->given = 1;
+    st->given_neg = neg;
+    st->given_null = nnull;
+}
+
 int sf_stab_eval(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *err)
 {
     st->nevals++;
-    if (st->sparse_kkt) return eval_sparse_kkt(st, q, y, p, err);
+    if (st->sparse_kkt) {
+        int rc = eval_sparse_kkt(st, q, y, p, err);
+        st->given = 0;
+        return rc;
+    }
+    st->given = 0;
     if (sf_equil_kkt(q, y, p, st->HL, st->C))
         return sf_fail(err, SF_ENUMERIC, "stability: non-finite Hessian at p = %g", p);
     int method = resolved_method(st->method, st->nq);

@@ -98,6 +98,8 @@ typedef struct sf_stab {
     long *jsrc, jnnz;
     double *jval, *jfp;
     long ncert;            /* points certified stable that way */
+    int given;             /* sf_stab_give_inertia: 1 until the next evaluation */
+    long given_neg, given_null;
     int sparse_kkt;        /* face poses: sparse blocks to sp, no dense HL, C */
     int arpack_maxiter;    /* 0: sstab.h default; set before the first eval */
     int arpack_attempts;   /* 0: sstab.h default */
@@ -159,5 +161,17 @@ int sf_stab_cert_search(int d, int k, const double *H0, const double *A, double 
                         sf_cert_search *out);
 
 const char *sf_stab_method_name(int method);
+
+/* 1 when st's evaluations of q's points start from the inertia of the
+ * corrector's own Jacobian at the point (the inertia method in face
+ * poses): the caller then asks the engine for it (cont_set_point_inertia)
+ * and hands it over with sf_stab_give_inertia. */
+int sf_stab_wants_inertia(const sf_stab *st, const sf_equil *q);
+
+/* The inertia of the corrector's Jacobian at the point the next
+ * sf_stab_eval evaluates (negative and null pivots of its LDL^T, from
+ * the engine: cont_point.jy_inertia); used by that evaluation only, in
+ * place of a factorisation of its own. */
+void sf_stab_give_inertia(sf_stab *st, long neg, long nnull);
 
 #endif

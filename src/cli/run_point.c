@@ -125,6 +125,8 @@ int run_on_point(const cont_point *pt, void *data)
     }
     sf_equil *eq = &r->eq;
     if (r->do_stab) {
+        /* the engine's LDL^T of the corrector's Jacobian at this point */
+        if (pt->jy_inertia) sf_stab_give_inertia(&r->stab, pt->jy_neg, pt->jy_null);
         if (sf_stab_eval(&r->stab, eq, pt->y, pt->p, r->err)) {
             r->failed = 1;
             return 1;
