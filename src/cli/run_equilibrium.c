@@ -82,6 +82,9 @@ static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, d
     sf_equil *eq = &r->eq;
     sf_error *err = r->err;
     double end = r->p_end;
+    if (!(r->cpu_path0 > 0)) r->cpu_path0 = run_cpu_seconds();
+    /* stability from the corrector's own LDL^T at each point (stability.h) */
+    if (r->do_stab && sf_stab_wants_inertia(&r->stab, eq)) cont_set_point_inertia(cs, 1);
     int rc = cont_run(cs);
     while (staged && rc == CONT_DONE && !r->failed && r->seg_end != end &&
            cont_stop_reason(cs) == (dir > 0 ? CONT_STOP_PMAX : CONT_STOP_PMIN)) {

@@ -38,6 +38,7 @@ typedef struct run_ctx {
     long npoints;
     int failed;
     double s_offset;      /* arclength before the engine's first point */
+    double cpu_path0;     /* process CPU seconds when the path after its start began (0: not yet) */
     cont_solver *solver;
     /* stability */
     int do_stab, nev;
@@ -105,5 +106,8 @@ void run_validity_summary(const run_ctx *r, char *buf, size_t size);
 
 /* run_output.c: write DIR/branch.tsv, stats.csv, special.tsv and the rest. */
 int run_write_outputs(run_ctx *r);
+
+/* CPU seconds of the process so far (user + system, every thread). */
+double run_cpu_seconds(void);
 
 #endif

@@ -4,10 +4,18 @@
  * and the reference comparison (docs/output-format.md). */
 #include <stdio.h>
 #include <stdlib.h>
+#include <time.h>
 
 #include "equilibrium_poses.h"
 #include "run_impl.h"
 #include "study.h"
+
+double run_cpu_seconds(void)
+{
+    struct timespec t;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) != 0) return 0.0;
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
 
 int run_write_outputs(run_ctx *r)
 {
@@ -65,6 +73,16 @@ int run_write_outputs(run_ctx *r)
     WRITE("branch.tsv", out);
     out.n = 0;
     sf_outbuf_printf(&out, "# smoothfold %s per-step solver statistics for %s\n", PACKAGE_VERSION, s->name);
+    if (r->cpu_path0 > 0)
+        sf_outbuf_printf(&out, "# CPU time: start %.3f s (reading, set-up and the start up to the path's "
+                         "first point), path %.3f s (the path after it: corrector, stability, "
+                         "special points, output)\n", r->cpu_path0, run_cpu_seconds() - r->cpu_path0);
+    cont_factor_stats fs;
+    if (r->solver && cont_get_factor_stats(r->solver, &fs) == 0)
+        sf_outbuf_printf(&out, "# corrector's last factorisation (MUMPS): %s of order %ld, %.0f entries "
+                         "in its factors, %.4g Mflop, %ld delayed pivots\n",
+                         fs.ldlt ? "LDL^T of Jy" : "LU of the bordered matrix", fs.n, fs.entries,
+                         1e-6 * fs.flops, fs.delayed);
     sf_outbuf_printf(&out, "point,branch,p,ds,newton,residual_evals,jacobian_evals,retries,locate_points,wall_s,factorisations\n");
     if (r->stats.n) sf_outbuf_printf(&out, "%.*s", (int)r->stats.n, r->stats.s);
     WRITE("stats.csv", out);

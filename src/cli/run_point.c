@@ -200,6 +200,8 @@ int run_on_point(const cont_point *pt, void *data)
     if (r->do_stab) {
         sf_progress_phase(r->opt->progress, 0, "run: stability of point %ld (p = %.6g, %d unknowns)",
                           r->npoints, pt->p, eq->n);
+        /* the engine's LDL^T of the corrector's Jacobian at this point */
+        if (pt->jy_inertia) sf_stab_give_inertia(&r->stab, pt->jy_neg, pt->jy_null);
         if (sf_stab_eval(&r->stab, eq, pt->y, pt->p, r->err)) {
             r->failed = 1;
             return 1;
