@@ -282,6 +282,16 @@ static int regularised(cont_solver *s, newton_fn newton, double *x, const double
         int k = 0;
         r = newton(s, x, c, xa, sig, maxit, strategy, &k, fnorm);
         total += k;
+        if (r && round == 0) {
+            /* the penalty's multipliers g / delta are far from the guess's
+             * where the guess leaves nearly dependent rows open: the
+             * method of multipliers from the guess's multipliers instead */
+            memcpy(x, x0, (size_t)m * sizeof(double));
+            if (s->prob.regularise(x, x[n], s->ftol, CONT_REG_ANCHOR, NULL, u) == 0) {
+                r = newton(s, x, c, xa, sig, maxit, strategy, &k, fnorm);
+                total += k;
+            }
+        }
         if (r) break;
         /* multiplier updates, while they contract (each removes the
          * penalty's bias where the problem resolves the constraints, and
