@@ -109,7 +109,7 @@ static int rows_at(fs_kkt *k, const fs_control *c, const double *y, double mu, d
 {
     sf_equil *q = k->q;
     memcpy(ya, y, sizeof(double) * (size_t)k->nx);
-    memcpy(ya + k->nx, q->lam_anchor, sizeof(double) * (size_t)k->m);
+    memcpy(ya + k->nx, q->lam_a, sizeof(double) * (size_t)k->m);
     return sf_equil_residual(ya, eval_p(c, mu), F, q) ? SF_ENUMERIC : SF_OK;
 }
 
@@ -121,11 +121,11 @@ static int merit(fs_kkt *k, const fs_control *c, const double *y, double mu, dou
     int nx = k->nx, m = k->m;
     double pm = c->p0, Pi, rr, rt;
     if (rows_at(k, c, y, mu, ya, F)) return SF_ENUMERIC;
-    double eps = q->eps_anchor, v = 0.0;
+    double v = 0.0;
     for (int r = 0; r < m; r++) {
-        double g = F[nx + r], w = sf_equil_row_eps(q, 1.0, r) * q->yscale[nx + r] / q->fscale[nx + r];
-        v += q->lam_anchor[r] * g + g * g / (2.0 * eps * w);
-        ya[nx + r] = q->lam_anchor[r] + g / (eps * w);   /* the multipliers Phi implies */
+        double g = F[nx + r], dw = q->dual[r] * q->yscale[nx + r] / q->fscale[nx + r];
+        v += q->lam_a[r] * g + g * g / (2.0 * dw);
+        ya[nx + r] = q->lam_a[r] + g / dw;   /* the multipliers Phi implies */
     }
     sf_equil_report(q, ya, pm, &Pi, &rr, &rt);
     *phi = Pi + v;
@@ -252,9 +252,8 @@ int fs_alm(fs_kkt *k, const fs_control *c, double *y, double *mu, int branch, do
     double *d = malloc(sizeof(double) * ((size_t)n + 1));
     double *grad = malloc(sizeof(double) * ((size_t)nx + 1));
     double *lh = malloc(sizeof(double) * ((size_t)nx + 1));
-    if (!q->lam_anchor) q->lam_anchor = calloc((size_t)m + 1, sizeof(double));
     int rc = SF_OK;
-    if (!R || !F || !ya || !yt || !a || !d || !grad || !lh || !q->lam_anchor) {
+    if (!R || !F || !ya || !yt || !a || !d || !grad || !lh) {
         rc = sf_fail(err, SF_ENOMEM, "out of memory");
         goto done;
     }
@@ -263,11 +262,11 @@ int fs_alm(fs_kkt *k, const fs_control *c, double *y, double *mu, int branch, do
     for (int i = 0; c->row && i < nx; i++) beta = fmax(beta, fabs(c->row[i] * k->S[i]));
     if (!(beta > 0.0)) beta = 1.0;
     for (int i = 0; i < nx; i++) lh[i] = c->row ? c->row[i] * k->S[i] / beta : 0.0;
-    memcpy(q->lam_anchor, y + nx, sizeof(double) * (size_t)m);
+    memcpy(q->lam_a, y + nx, sizeof(double) * (size_t)m);
     double eps = c->eps0 > 0.0 ? c->eps0 : EPS_FIRST, gprev = INFINITY, shift = 0.0;
     int saddles = 0, stall = 0;
     for (int outer = 0; rc == SF_OK; outer++) {
-        q->eps_anchor = eps;
+        fs_prox(k, eps);
         res->outer = outer + 1;
         int conv = 0;
         for (int it = 0; it < INNER_MAX && res->newton < (getenv("FS_MAXNEWTON") ? atoi(getenv("FS_MAXNEWTON")) : NEWTON_MAX); it++) {
@@ -351,7 +350,7 @@ int fs_alm(fs_kkt *k, const fs_control *c, double *y, double *mu, int branch, do
         res->gres = gres;
         res->eps = eps;
         if (getenv("FS_DEBUG")) fprintf(stderr, " outer %d done: conv %d gres %.3e eps %.1e newton %d\n", outer, conv, gres, eps, res->newton);
-        memcpy(q->lam_anchor, y + nx, sizeof(double) * (size_t)m);
+        memcpy(q->lam_a, y + nx, sizeof(double) * (size_t)m);
         /* closed to ten times the Newton tolerance: the continuation's own
          * corrector polishes the first point (the method of multipliers
          * converges only linearly where rows are nearly dependent) */
@@ -366,7 +365,7 @@ int fs_alm(fs_kkt *k, const fs_control *c, double *y, double *mu, int branch, do
         if (eps < EPS_MIN) { res->blocked = 1; break; }
     }
 done:
-    q->eps_anchor = 0.0;
+    fs_prox_off(k);
     free(R); free(F); free(ya); free(yt); free(a); free(d); free(grad); free(lh);
     return rc;
 }
