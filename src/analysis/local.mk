@@ -11,7 +11,8 @@ src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibri
 	src/analysis/flatlimit_sparse.c src/analysis/flatlimit_sparse.h \
 	src/analysis/flatrigid.c src/analysis/flatrigid.h \
 	src/analysis/start/start.c src/analysis/start/start.h src/analysis/start/start_impl.h \
-	src/analysis/start/start_alm.c src/analysis/start/start_kkt.c \
+	src/analysis/start/start_alm.c src/analysis/start/start_kkt.c src/analysis/start/start_cone.c \
+	src/analysis/lmi.c src/analysis/lmi.h \
 	src/analysis/reactions.c src/analysis/reactions.h \
 	src/analysis/mobility.c src/analysis/mobility.h src/analysis/mobility_sparse.c \
 	src/analysis/compare.c src/analysis/compare.h src/analysis/compare_impl.h \

@@ -251,6 +251,82 @@ static int drive(start_ctx *c, double *y, double *mu, double *relp, fs_alm_resul
     return SF_OK;
 }
 
+/* The certificate's margin: the smallest eigenvalue, relative to the
+ * bending metric, that counts as positive. */
+#define CERT_MARGIN 1e-8
+
+/* The census of the sheet's branches (start.h): best (q->n) and *mu get
+ * the closed state of lowest bending energy at the driving's amount of
+ * folding target, *followed its fold + 1; *lmin the prestress certificate
+ * where none closes; *cone_k the first-order motions (-2: too large). */
+static int census(start_ctx *c, double target, double musign, double *yb, double *best,
+                  double *mu, double *best_pi, int *followed, double *lmin, int *cone_k,
+                  sf_error *err)
+{
+    sf_equil *q = c->q;
+    const sf_model *m = q->m;
+    int n = q->n, nq = m->nq;
+    fs_cone C;
+    int rc = fs_cone_build(q, c->p0, &C, err);
+    if (rc == SF_EINPUT) { *cone_k = -2; return SF_OK; }
+    if (rc) return rc;
+    *cone_k = C.k;
+    c->info->cone_dim = C.k;
+    c->info->cone_forms = C.r;
+    double *x0 = malloc(sizeof(double) * ((size_t)C.k + 1));
+    double *x = malloc(sizeof(double) * ((size_t)C.k + 1));
+    double *nu = malloc(sizeof(double) * ((size_t)C.r + 1));
+    if (!x0 || !x || !nu) rc = sf_fail(err, SF_ENOMEM, "out of memory");
+    for (int f = 0; !rc && C.k > 0 && f < m->nfolds; f++) {
+        int i = m->qoff[f];
+        double nx0 = 0.0;
+        for (int b = 0; b < C.k; b++) {
+            x0[b] = C.N[(size_t)b * nq + i];
+            nx0 = fmax(nx0, fabs(x0[b]));
+        }
+        if (nx0 < 1e-8) continue;   /* the fold does not move at first order */
+        double res;
+        if (fs_cone_ray(&C, x0, x, &res)) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); break; }
+        if (getenv("FS_DEBUG")) fprintf(stderr, "cone k %d r %d fold %d res %.3e\n", C.k, C.r, f, res);
+        if (!(res <= 1e-9)) continue;
+        c->info->singles++;
+        /* the sign along which the driving does work, the amplitude of the
+         * first point, then the driving's own minimisation from there */
+        double w = 0.0;
+        for (int b = 0; b < C.k; b++) w += C.c[b] * x[b];
+        double sg = w * c->dir > 0.0 ? -1.0 : 1.0, big = 0.0;
+        memset(yb, 0, sizeof(double) * (size_t)n);
+        for (int j = 0; j < nq; j++) {
+            double v = 0.0;
+            for (int b = 0; b < C.k; b++) v += C.N[(size_t)b * nq + j] * x[b];
+            yb[j] = sg * v;
+        }
+        for (int g = 0; g < m->nfolds; g++) big = fmax(big, fabs(yb[m->qoff[g]]));
+        for (int j = 0; j < nq; j++) yb[j] *= c->o->flat_angle / big;
+        if (q->pz) sf_equil_poses_lift(q, yb);
+        double mc = 0.0, rel = target;
+        fs_alm_result r;
+        rc = drive(c, yb, &mc, &rel, &r, err);
+        if (rc == SF_ENUMERIC) { sf_error_clear(err); rc = SF_OK; continue; }
+        if (rc || !r.closed || mc * c->dir <= 0.0) continue;
+        note_branch(c, yb);
+        double Pi, rr, rt;
+        sf_equil_report(q, yb, c->p0, &Pi, &rr, &rt);
+        if (Pi < *best_pi * (1.0 - 1e-9)) {
+            *best_pi = Pi;
+            *followed = f + 1;
+            *mu = mc;
+            memcpy(best, yb, sizeof(double) * (size_t)n);
+        }
+    }
+    (void)musign;
+    if (!rc && *followed < 0 && C.k > 0 && fs_cone_certify(&C, lmin, nu) < 0)
+        rc = sf_fail(err, SF_ENOMEM, "out of memory");
+    free(x0); free(x); free(nu);
+    fs_cone_free(&C);
+    return rc;
+}
+
 int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_start_opts *o,
                   double *y1, double *p1, sf_start_info *info, sf_error *err)
 {
@@ -323,64 +399,42 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
         info->blocked = 1;
         if (getenv("FS_DEBUG")) memcpy(y1, yb, sizeof(double) * (size_t)n);
     }
-    /* the sheet's own branches: each fold folded alone */
-    double best_score = -1.0, best_mu = mu;
-    if (!rc && (o->census || info->blocked) && !getenv("FS_NOCENSUS")) {
-        double *yc = malloc(sizeof(double) * ((size_t)n + 1));
-        if (!yc) rc = sf_fail(err, SF_ENOMEM, "out of memory");
-        for (int f = 0; !rc && f < m->nfolds; f++) {
-            int i = m->qoff[f];
-            memset(pin, 0, sizeof(double) * (size_t)nx);
-            pin[i] = 1.0;
-            fs_control ctl = {FS_PIN, pin, y0[i] + o->flat_angle, p0, 0.0};
-            memcpy(yc, y0, sizeof(double) * (size_t)n);
-            double mf = 0.0;
-            fs_alm_result rf;
-            rc = minimise(&c, &ctl, yc, &mf, &rf, err);
-            if (rc == SF_ENUMERIC) { sf_error_clear(err); rc = SF_OK; continue; }
-            if (rc || !rf.closed) continue;
-            info->singles++;
-            note_branch(&c, yc);
-            if (followed == 0) continue;
-            /* the driving's work on it per unit of bending energy */
-            double w = 0.0, Pi, Pi0, rr, rt;
-            for (int j = 0; j < nx; j++) w += c.row[j] * (yc[j] - y0[j]);
-            sf_equil_report(q, yc, p0, &Pi, &rr, &rt);
-            sf_equil_report(q, y0, p0, &Pi0, &rr, &rt);
-            double score = Pi - Pi0 > 0.0 ? w * w / (Pi - Pi0) : 0.0;
-            if (score > best_score * (1.0 + 1e-9)) {
-                best_score = score;
-                followed = f + 1;
-                /* the mirror image where the driving works against it */
-                double sg = (w * musign * c.dir > 0.0) ? 1.0 : -1.0;
-                for (int j = 0; j < n; j++) best[j] = j < nx ? y0[j] + sg * (yc[j] - y0[j]) : 0.0;
-            }
-        }
-        free(yc);
-        if (!rc && info->blocked && followed > 0) {
-            /* the driving's minimisation from that branch */
-            memcpy(yb, best, sizeof(double) * (size_t)n);
-            best_mu = 0.0;
-            rc = drive(&c, yb, &best_mu, &target, &r, err);
-            if (!rc && r.closed) {
-                mu = best_mu;
-                memcpy(best, yb, sizeof(double) * (size_t)n);
-            } else if (!rc) {
-                followed = -1;
-            }
-        }
-    }
+    /* the sheet's own branches: the rays of the tangent cone nearest to
+     * each fold's first-order motion, each taken by the driving's own
+     * minimisation (start_cone.c) */
+    double best_pi = INFINITY, lmin = -INFINITY;
+    int certified = 0, cone_k = -1;
+    if (!rc && (o->census || info->blocked) && q->disp_row < 0)
+        rc = census(&c, target, musign, yb, best, &mu, &best_pi, &followed, &lmin, &cone_k, err);
+    certified = lmin > CERT_MARGIN;
     info->branches = c.nbr;
     info->factorisations = c.k.nfact;
     if (rc) goto done;
+    if (followed < 0 && (certified || cone_k == 0)) {
+        info->verdict = SF_FOLD_LOCKED;
+        if (cone_k == 0)
+            rc = sf_fail(err, SF_ELOCKED, "%s: flat start: locked: the loop rows leave no motion "
+                         "of the flat sheet even at first order (rigid faces and exact closure); "
+                         "to fold it, let its loops give (solver.constraints = \"penalty\") or its "
+                         "faces bend", path);
+        else
+            rc = sf_fail(err, SF_ELOCKED, "%s: flat start: locked: a prestress of the loops makes "
+                         "the second-order closure conditions positive definite on the sheet's %d "
+                         "first-order motions (smallest eigenvalue %.3g in the bending metric), so "
+                         "no motion leaves the flat sheet with rigid faces and exact closure; to "
+                         "fold it, let its loops give (solver.constraints = \"penalty\") or its "
+                         "faces bend", path, info->cone_dim, lmin);
+        goto done;
+    }
     if (followed < 0) {
         info->verdict = SF_FOLD_UNDECIDED;
         rc = sf_fail(err, SF_ENUMERIC, "%s: flat start: no closed state near the flat sheet along "
                      "the driving's response (loop residual %.2g after %d Newton steps)%s; the "
                      "sheet may not fold with rigid faces and exact loop closure: try "
                      "solver.constraints = \"penalty\" (compliant loops)", path, r.gres,
-                     info->newton, info->singles || o->census || info->blocked
-                         ? ", nor with any fold folded alone" : "");
+                     info->newton, cone_k > 0 ? ", nor along the rays of the tangent cone nearest "
+                         "to each fold's motion, and no prestress proves it locked" : cone_k == -2
+                         ? " (the sheet is too large for the tangent cone's dense analysis)" : "");
         goto done;
     }
     double dp = mu;

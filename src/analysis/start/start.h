@@ -41,7 +41,8 @@ enum { SF_FOLD_UNKNOWN = 0, SF_FOLD_FOLDABLE = 1, SF_FOLD_LOCKED = 2, SF_FOLD_UN
 typedef struct sf_start_info {
     int verdict;         /* SF_FOLD_* */
     int branches;        /* distinct branches found (by their fold-angle directions) */
-    int singles;         /* folds folded alone (census or blocked driving) */
+    int singles;         /* rays of the tangent cone found from single folds' motions */
+    int cone_dim, cone_forms;  /* first-order motions, second-order conditions (census) */
     int blocked;         /* the driving's response has no closed state near it */
     int symmetric;       /* the state the driving selects is a saddle: mirror branches */
     int from_fold;       /* the branch followed: 0 the driving's own, f + 1 fold f's */
