@@ -105,7 +105,7 @@ check $r "flat_start = \"sparse\" alone: one line, before any point, naming the 
 # 6: unknown values
 r=1
 for c in "$F|x|must be \"auto\", \"folds\" or \"poses\" (got \"x\")" \
-         "$S|x|must be \"auto\", \"limit\", \"direct\" or \"sparse\" (got \"x\")" \
+         "$S|x|must be \"auto\", \"limit\", \"direct\", \"sparse\" or \"multipliers\" (got \"x\")" \
          "$N|x|must be \"auto\", \"sum\" or \"rms\" (got \"x\")"; do
     key=${c%%|*}; rest=${c#*|}; val=${rest%%|*}; msg=${rest#*|}
     a=$(run bad --set "$key=\"$val\"")

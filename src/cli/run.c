@@ -59,6 +59,44 @@ static void run_release(run_ctx *r)
     r->val = NULL;
 }
 
+/* The fold formulation's flat start, chosen by "auto" for a small sheet,
+ * found no first point: the same study again with the sparse pose start,
+ * which starts sheets where that one fails (docs/flatstart.md, "Limits");
+ * branch.tsv's header says why. */
+static int run_again_in_poses(run_ctx *r, sf_error *err)
+{
+    char why[700];
+    snprintf(why, sizeof why, "%.690s", err->msg);
+    char *hint = strstr(why, SF_FLAT_POSES_HINT);   /* the advice being taken */
+    if (hint) {
+        const char *rest = hint + strlen(SF_FLAT_POSES_HINT);
+        memmove(hint, rest, strlen(rest) + 1);
+    }
+    sf_scene *sc = r->sc;
+    const sf_options *opt = r->opt;
+    sf_compare *cmp = r->cmp;
+    char dir[sizeof r->dir];
+    memcpy(dir, r->dir, sizeof dir);
+    run_release(r);
+    memset(r, 0, sizeof *r);   /* the context of a fresh run in the same directory */
+    r->sc = sc;
+    r->opt = opt;
+    r->err = err;
+    r->cmp = cmp;
+    memcpy(r->dir, dir, sizeof dir);
+    sf_error_clear(err);
+    sf_study *s = &r->sc->study;
+    if (sf_study_set_string(s, "solver.formulation", "poses", err) ||
+        sf_study_set_string(s, "analysis.flat_start", "sparse", err) || run_open(r, err))
+        return err->code;
+    const char *line = "auto: the fold formulation's flat start found no first point; run "
+                       "again with solver.formulation = \"poses\", analysis.flat_start = "
+                       "\"sparse\"";
+    sf_outbuf_printf(&r->header, "# %s (it said: %s)\n", line, why);
+    if (!r->opt->quiet) fprintf(stderr, "smoothfold: %s\n", line);
+    return run_equilibrium(r);
+}
+
 int sf_cmd_run(const sf_options *o, sf_error *err)
 {
     if (!o->output) return sf_fail(err, SF_EINPUT, "run: give the output directory with -o DIR");
@@ -106,6 +144,7 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     if (!rc) rc = run_open(&r, err);
     if (!rc) {
         rc = run_equilibrium(&r);
+        if (rc == SF_ENUMERIC && r.retry_poses) rc = run_again_in_poses(&r, err);
         if (rc == SF_ENUMERIC && r.npoints > 0) {
             /* keep the path up to where it stopped: complete files whose
              * header says why it stopped; the exit status stays non-zero */

@@ -9,6 +9,8 @@
 #include <string.h>
 
 #include "equilibrium_poses.h"
+#include "flatstart.h"
+#include "flatstart_sparse.h"
 #include "progress.h"
 #include "flatswitch.h"
 #include "mobility.h"
@@ -126,11 +128,71 @@ static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, d
     return sf_bif_switch(&r->bif, cs, err);
 }
 /* The path starts at the flat state of a sheet with loops: write that
- * point, then find the first point off it (start.h) and start the engine
- * there.  0: the engine holds the first point, *ret = CONT_OK; 1: stop
- * with *ret. */
-static int start_at_flat(run_ctx *r, double *y0, double start, double end, int dir, int depth,
-                         double flat_angle, int *ret)
+ * point, then find the first point off it (flatstart.h, the pose and
+ * sparse variants).  0: the engine holds the first point, *ret = CONT_OK;
+ * 1: stop with *ret. */
+static int start_at_flat(run_ctx *r, double *y0, double start, double end, double step,
+                         int dir, int depth, int sparse, double flat_angle, int *ret)
+{
+    const sf_study *s = &r->sc->study;
+    sf_error *err = r->err;
+    sf_equil *eq = &r->eq;
+    cont_solver *cs = r->solver;
+    int rc;
+    /* The flat state solves the exact problem at the start, but it is a
+     * singular point of loop closure (multipliers of the second-order
+     * rows are undetermined there).  Report it, then start the branch
+     * one step further from the limit of the branch at the flat state
+     * (src/analysis/flatstart.c; the penalty homotopy as the fallback). */
+    cont_point p0;
+    memset(&p0, 0, sizeof p0);
+    p0.y = y0;
+    p0.p = start;
+    run_on_point(&p0, r);
+    if (r->failed) return *ret = err->code, 1;
+    double p1 = start + dir * fmin(step, 0.25 * fabs(end - start));
+    if (r->seg_end != end) p1 = start + dir * fmin(fabs(p1 - start), 0.25 * fabs(r->seg_end - start));
+    r->s_offset = -1.0;   /* set from the first point (run_on_point) */
+    double tol = s->tolerance > 0 ? s->tolerance : 1e-10;
+    sf_flatstart_info fi;
+    memset(&fi, 0, sizeof fi);
+    int fb = 1;
+    if (sf_study_int(s, "solver.flat_branch", 1, &fb, err)) return *ret = err->code, 1;
+    if (sparse)
+        rc = sf_equil_poses_start_sparse(eq, cs, y0, start, 0.5 * fabs(r->seg_end - start), dir,
+                                         flat_angle, tol, y0, &fi, err);
+    else
+        rc = eq->pz ? sf_equil_poses_start_flat(eq, cs, start, p1, dir, tol, y0, err)
+                    : sf_equil_start_flat(eq, cs, start, p1, dir, tol, y0, fb, &fi, err);
+    if (fi.note[0]) run_branch_note(r, "%s", fi.note);
+    if (rc) {
+        *ret = explain_start_failure(r);
+        r->retry_poses = r->auto_small && !eq->pz && *ret == SF_ENUMERIC;
+        return 1;
+    }
+    if (depth >= 1 && !eq->pz && !r->failed) {
+        /* every branch of the flat state, after the path (flat_switch) */
+        r->flat_first = malloc(sizeof(double) * (size_t)eq->n);
+        if (!r->flat_first) return *ret = sf_fail(err, SF_ENOMEM, "out of memory"), 1;
+        memcpy(r->flat_first, cont_get_point(cs)->y, sizeof(double) * (size_t)eq->n);
+        r->flat_sw = 1;
+        r->flat_p0 = start;
+        r->flat_p1 = cont_get_point(cs)->p;
+        r->flat_dp = p1 - start;
+    }
+    *ret = CONT_OK;
+    return 0;
+}
+
+/* analysis.flat_start = "multipliers" (start.h, docs/start.md): write the
+ * flat state, find the closed state of least energy at a given amount of
+ * folding by the method of multipliers, and hand it to the engine with
+ * the chord from the flat state as its tangent (the Jacobian may be
+ * nearly singular there; the start's point meets the Newton tolerance
+ * already).  0: the engine holds the first point, *ret = CONT_OK; 1:
+ * stop with *ret. */
+static int start_by_multipliers(run_ctx *r, double *y0, double start, double end, int dir,
+                                double flat_angle, int *ret)
 {
     const sf_study *s = &r->sc->study;
     sf_error *err = r->err;
@@ -146,8 +208,9 @@ static int start_at_flat(run_ctx *r, double *y0, double start, double end, int d
     int fb = 1;
     if (sf_study_int(s, "solver.flat_branch", 1, &fb, err)) return *ret = err->code, 1;
     if (fb > 2)
-        return *ret = sf_fail(err, SF_EINPUT, "%s: solver.flat_branch = %d: a symmetric driving "
-                              "gives two mirror branches at the flat state (1 or 2)", s->path, fb), 1;
+        return *ret = sf_fail(err, SF_EINPUT, "%s: solver.flat_branch = %d: with analysis.flat_start "
+                              "= \"multipliers\", a symmetric driving gives two mirror branches "
+                              "(1 or 2)", s->path, fb), 1;
     sf_start_opts o;
     o.flat_angle = flat_angle;
     o.dp_max = 0.25 * fabs((r->seg_end != end ? r->seg_end : end) - start);
@@ -157,59 +220,61 @@ static int start_at_flat(run_ctx *r, double *y0, double start, double end, int d
     sf_start_info si;
     double p1 = start;
     double *y1 = malloc(sizeof(double) * ((size_t)eq->n + 1));
-    if (!y1) return *ret = sf_fail(err, SF_ENOMEM, "out of memory"), 1;
+    double *t1 = malloc(sizeof(double) * ((size_t)eq->n + 1));
+    if (!y1 || !t1) {
+        free(y1);
+        free(t1);
+        return *ret = sf_fail(err, SF_ENOMEM, "out of memory"), 1;
+    }
     int rc = sf_start_flat(eq, y0, start, dir, &o, y1, &p1, &si, err);
     if (si.note[0]) run_branch_note(r, "%s", si.note);
-    if (rc) {
-        free(y1);
-        *ret = rc;
-        return 1;
+    if (!rc) {
+        for (int i = 0; i < eq->n; i++) t1[i] = y1[i] - y0[i];
+        if (cont_start_tangent(cs, y1, p1, t1, p1 - start) != CONT_OK) {
+            if (!r->failed)
+                sf_fail(err, SF_ENUMERIC, "%s: the first point off the flat state (p = %.6g) does "
+                        "not converge in the path's corrector: %s", s->path, p1, cont_errmsg(cs));
+            rc = err->code;
+        }
     }
-    if (cont_start(cs, y1, p1, dir) != CONT_OK) {
-        if (!r->failed)
-            sf_fail(err, SF_ENUMERIC, "%s: the first point off the flat state (p = %.6g) does not "
-                    "converge in the path's corrector: %s", s->path, p1, cont_errmsg(cs));
-        free(y1);
-        *ret = err->code;
-        return 1;
-    }
-    if (depth >= 1 && !eq->pz && !r->failed && si.verdict == SF_FOLD_FOLDABLE) {
-        /* every branch of the flat state, after the path (flat_switch) */
-        r->flat_first = y1;
-        r->flat_sw = 1;
-        r->flat_p0 = start;
-        r->flat_p1 = cont_get_point(cs)->p;
-        r->flat_dp = p1 - start;
-    } else {
-        free(y1);
-    }
+    free(y1);
+    free(t1);
+    if (rc) return *ret = rc, 1;
     *ret = CONT_OK;
     return 0;
 }
 
-/* The defaults of solver.formulation and analysis.step_norm, "auto"
- * (docs/study-format.md, "Large sheets"): by the size of the problem in
- * fold coordinates (eq->n, before any switch to poses).  Above
- * solver.auto_unknowns, on a sheet with loops (exact closure, interior
- * vertices), with neither key set and no feature of the fold formulation
- * only in use (the loop penalty; every branch at the flat state,
- * analysis.branch_depth >= 1), they are "poses" and "rms"; otherwise
- * "folds" and "sum".  The choices are written back into the study
- * (DIR/study.cfg records what was run), and a sheet above the threshold
- * gets one header line saying what auto chose and why.  *form, *norm:
- * string literals or the study's values. */
-static int choose_keys(run_ctx *r, const char **form, const char **norm)
+/* The defaults of solver.formulation, analysis.flat_start and
+ * analysis.step_norm, "auto" (docs/study-format.md, "Large sheets"): by
+ * the size of the problem in fold coordinates (eq->n, before any switch to
+ * poses).  Above solver.auto_unknowns, on a sheet with loops (exact
+ * closure, interior vertices), with none of the three keys set and no
+ * feature of the fold formulation only in use (the loop penalty; every
+ * branch at the flat state, analysis.branch_depth >= 1), they are
+ * "poses", "sparse", "rms"; otherwise "folds", "limit", "sum", the
+ * defaults before "auto", so that a study or command that sets any of
+ * them runs as before (and an explicit combination that does not work,
+ * such as "sparse" with "folds", gives the same error).  The choices
+ * are written back into the study (DIR/study.cfg records what was run; the
+ * K+1 run of analysis.convergence, a larger problem, keeps them), and a
+ * sheet above the threshold gets one header line saying what auto chose
+ * and why.  Where all three were "auto" and the sheet is small, r->auto_small
+ * lets run.c run the study again with the sparse pose start if the fold
+ * formulation's flat start fails.  *form, *fs, *norm: string literals or
+ * the study's values. */
+static int choose_keys(run_ctx *r, const char **form, const char **fs, const char **norm)
 {
     sf_study *s = &r->sc->study;
     sf_error *err = r->err;
     const sf_equil *eq = &r->eq;
     int lim = 0, depth = 0;
     if (sf_study_string(s, "solver.formulation", "auto", form, err) ||
+        sf_study_string(s, "analysis.flat_start", "auto", fs, err) ||
         sf_study_string(s, "analysis.step_norm", "auto", norm, err) ||
         sf_study_int(s, "solver.auto_unknowns", 0, &lim, err) ||
         sf_study_int(s, "analysis.branch_depth", 0, &depth, err))
         return err->code;
-    int af = strcmp(*form, "auto") == 0, an = strcmp(*norm, "auto") == 0;
+    int af = strcmp(*form, "auto") == 0, as = strcmp(*fs, "auto") == 0, an = strcmp(*norm, "auto") == 0;
     int large = eq->n > lim;
     const char *why = !eq->exact ? "solver.constraints = \"penalty\" exists in the fold formulation only"
                       : depth >= 1 && eq->nloop > 0
@@ -218,23 +283,29 @@ static int choose_keys(run_ctx *r, const char **form, const char **norm)
                       : eq->nloop == 0 ? "the sheet has no interior vertex (no loop rows: the fold "
                                          "formulation is the smaller one)"
                       : !af ? "solver.formulation is set"
+                      : !as ? "analysis.flat_start is set"
                       : !an ? "analysis.step_norm is set"
                             : NULL;
     int big = large && !why;
+    r->auto_small = af && as && an && !why && !large;   /* run.c may retry in poses */
     if (af) *form = big ? "poses" : "folds";
+    if (as) *fs = big ? "sparse" : "limit";
     if (an) *norm = big ? "rms" : "sum";
     if ((af && sf_study_set_string(s, "solver.formulation", *form, err)) ||
+        (as && sf_study_set_string(s, "analysis.flat_start", *fs, err)) ||
         (an && sf_study_set_string(s, "analysis.step_norm", *norm, err)))
         return err->code;
-    if (!large || !(af || an)) return SF_OK;
+    if (!large || !(af || as || an)) return SF_OK;
     char line[1024], keys[256];
     int o = 0;
     keys[0] = '\0';
     if (af) o += snprintf(keys + o, sizeof keys - (size_t)o, "solver.formulation = \"%s\"", *form);
+    if (as) o += snprintf(keys + o, sizeof keys - (size_t)o, "%sanalysis.flat_start = \"%s\"", o ? ", " : "", *fs);
     if (an) snprintf(keys + o, sizeof keys - (size_t)o, "%sanalysis.step_norm = \"%s\"", o ? ", " : "", *norm);
     if (big)
         snprintf(line, sizeof line, "auto: %d unknowns in fold coordinates, above solver.auto_unknowns = %d: "
-                 "%s (setting either key keeps \"folds\" or \"sum\" for the other)", eq->n, lim, keys);
+                 "%s (setting any of the three keys keeps \"folds\", \"limit\", \"sum\" for the others)",
+                 eq->n, lim, keys);
     else
         snprintf(line, sizeof line, "auto: %d unknowns in fold coordinates, above solver.auto_unknowns = %d, "
                  "but %s: %s as below it", eq->n, lim, why, keys);
@@ -284,8 +355,11 @@ int run_equilibrium(run_ctx *r)
     sf_equil_use_sparse(eq, strcmp(linsol, "klu") == 0    ? CONT_LINSOL_KLU
                             : strcmp(linsol, "dense") == 0 ? 0
                                                            : CONT_LINSOL_MUMPS);
-    const char *formulation, *step_norm;
-    if (choose_keys(r, &formulation, &step_norm)) return err->code;
+    const char *formulation, *flat_start, *step_norm;
+    if (choose_keys(r, &formulation, &flat_start, &step_norm)) return err->code;
+    if (strcmp(flat_start, "sparse") == 0 && strcmp(formulation, "poses") != 0)
+        return sf_fail(err, SF_EINPUT, "%s: analysis.flat_start = \"sparse\" needs "
+                       "solver.formulation = \"poses\" (it is \"%s\")", s->path, formulation);
     if (strcmp(formulation, "poses") == 0 && sf_equil_use_poses(eq, err)) return err->code;
     if (sf_scene_locate_probes(sc, &r->probes, err)) return err->code;
     int depth = 0;
@@ -372,8 +446,12 @@ int run_equilibrium(run_ctx *r)
     }
     sf_progress_phase(r->opt->progress, 0, "run: the first point of the path, from p = %g%s", start,
                       F0norm <= flat_tol ? " (the flat state)" : "");
-    if ((eq->pz ? sc->topo.nivertices > 0 : eq->nloop > 0) && F0norm <= flat_tol) {
-        if (start_at_flat(r, y0, start, end, dir, depth, flat_angle, &rc)) {
+    int direct = strcmp(flat_start, "direct") == 0;
+    int sparse = strcmp(flat_start, "sparse") == 0;   /* flatstart_sparse.h */
+    int multipliers = strcmp(flat_start, "multipliers") == 0;   /* start.h */
+    if (!direct && (eq->pz ? sc->topo.nivertices > 0 : eq->nloop > 0) && F0norm <= flat_tol) {
+        if (multipliers ? start_by_multipliers(r, y0, start, end, dir, flat_angle, &rc)
+                        : start_at_flat(r, y0, start, end, step, dir, depth, sparse, flat_angle, &rc)) {
             free(y0);
             return rc;
         }

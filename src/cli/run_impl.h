@@ -83,6 +83,11 @@ typedef struct run_ctx {
     sf_validity_report val_worst_cross;    /* the row with the deepest crossing */
     long val_worst_beyond_row, val_worst_cross_row;
     double val_worst_beyond_p, val_worst_cross_p;
+    /* "auto" chose the fold formulation for a small sheet with loops
+     * (choose_keys), and its flat start found no first point: run.c runs
+     * the study again with the sparse pose start */
+    int auto_small;
+    int retry_poses;
 } run_ctx;
 
 /* run_equilibrium.c: set up the equilibrium problem and the continuation

@@ -287,7 +287,6 @@ static int census(start_ctx *c, double target, double musign, double *yb, double
         if (nx0 < 1e-8) continue;   /* the fold does not move at first order */
         double res;
         if (fs_cone_ray(&C, x0, x, &res)) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); break; }
-        if (getenv("FS_DEBUG")) fprintf(stderr, "cone k %d r %d fold %d res %.3e\n", C.k, C.r, f, res);
         if (!(res <= 1e-9)) continue;
         c->info->singles++;
         /* the sign along which the driving does work, the amplitude of the
@@ -397,7 +396,6 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
         note_branch(&c, best);
     } else if (!rc) {
         info->blocked = 1;
-        if (getenv("FS_DEBUG")) memcpy(y1, yb, sizeof(double) * (size_t)n);
     }
     /* the sheet's own branches: the rays of the tangent cone nearest to
      * each fold's first-order motion, each taken by the driving's own
