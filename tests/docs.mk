@@ -1,0 +1,5 @@
+# tests/docs.mk: what a user reads: the guides' commands run as written
+# (test_docs.sh), the man page renders (test_man.sh), the bash completion
+# offers commands and keys (test_completion.sh).
+TESTS += tests/test_man.sh tests/test_completion.sh
+EXTRA_DIST += tests/test_man.sh tests/test_completion.sh
