@@ -1,5 +1,6 @@
-# tests/docs.mk: what a user reads: the guides' commands run as written
-# (test_docs.sh), the man page renders (test_man.sh), the bash completion
-# offers commands and keys (test_completion.sh).
-TESTS += tests/test_man.sh tests/test_completion.sh
-EXTRA_DIST += tests/test_man.sh tests/test_completion.sh
+# tests/docs.mk: what a user reads: the guides' commands run as written and
+# the links of README.md and docs/ resolve (test_docs.sh), the man page
+# renders (test_man.sh), the bash completion offers commands and keys
+# (test_completion.sh).
+TESTS += tests/test_docs.sh tests/test_man.sh tests/test_completion.sh
+EXTRA_DIST += tests/test_docs.sh tests/test_man.sh tests/test_completion.sh
