@@ -35,7 +35,7 @@ for b in $(ls "$tmp/blocks" | sort); do
     if [ ! -d "$wd" ]; then mkdir -p "$wd"; ln -s "$src/studies" "$wd/studies"; fi
     ncmd=$(grep -cv '^[[:space:]]*\(#.*\)\?$' "$tmp/blocks/$b")
     if (cd "$wd" && PATH="$bindir:$PATH" sh -e "$tmp/blocks/$b") >"$tmp/out" 2>&1; then
-        ok "$where: the block's $ncmd commands exit 0"
+        ok "$where: the block's $ncmd lines run, every command exits 0"
     else
         nok "$where: a command of the block failed"
         tail -5 "$tmp/out" | sed 's/^/#   /'
