@@ -4,3 +4,5 @@
 # (test_completion.sh).
 TESTS += tests/test_docs.sh tests/test_man.sh tests/test_completion.sh
 EXTRA_DIST += tests/test_docs.sh tests/test_man.sh tests/test_completion.sh
+# the documents test_docs.sh reads (README.md is distributed by automake)
+EXTRA_DIST += docs
