@@ -113,7 +113,7 @@ out=$src/docs/guides/accuracy-cost.md
     echo "Written by \`bench/accuracy-cost.sh\` ($version; $host${cpu:+, $cpu}; best of $n runs)."
     echo "Do not edit by hand: rerun the script. Conclusions: [accuracy.md](accuracy.md)."
     echo
-    echo "![error against wall time, one curve per knob](img/accuracy-cost.png)"
+    echo "![error against wall time, one curve per knob](../img/accuracy-cost.png)"
     echo
     echo "Each knob is varied alone from a base setting (fold1: K = 6; strip3: K = 4;"
     echo "square4: K = 4; otherwise the study's own settings: 24 Gauss points, its"
