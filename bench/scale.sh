@@ -10,7 +10,7 @@
 # START and the step norm STEP_NORM (analysis.step_norm; "rms" takes steps
 # of the same fold-angle change on every sheet size,
 # continuation/README.md).  None of the three given: all three "auto"
-# (docs/study-format.md, "Large sheets": poses, sparse, rms above 300
+# (docs/reference/study-keys.md, "Large sheets": poses, sparse, rms above 300
 # unknowns in fold coordinates, folds, limit, sum below, so the 2x2 sheet
 # runs in fold coordinates and its unknowns column is "-").  Any given:
 # FORMULATION defaults to "poses", START to "direct" ("limit" with folds),

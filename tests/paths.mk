@@ -9,7 +9,7 @@ EXTRA_DIST += tests/test_reactions.sh tests/test_run_exact.sh tests/studies/deg4
 # exact closure from the flat state: the tangent cone (docs/flatstart.md)
 TESTS += tests/test_flatstart.sh
 EXTRA_DIST += tests/test_flatstart.sh
-# the start by the method of multipliers (docs/start.md)
+# the start by the method of multipliers (docs/design/start.md)
 TESTS += tests/test_start.sh
 EXTRA_DIST += tests/test_start.sh
 # the sparse start at the flat state for face poses (docs/flatstart.md)

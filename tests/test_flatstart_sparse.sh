@@ -14,7 +14,7 @@
 # Under gravity and a tip load (where the dense cone start needs the
 # degenerate ray of its descent) and on an 8x8 sheet (first point only) every interior vertex
 # obeys the closed form of a rigid flat-foldable degree-4 vertex
-# (docs/crease-limit.md; mode II: tan(rho_s/2) = cos(gamma) tan(rho_z/2),
+# (docs/design/crease-limit.md; mode II: tan(rho_s/2) = cos(gamma) tan(rho_z/2),
 # zigzag pair equal, straight pair opposite; or mode I: zigzag pair flat,
 # straight pair equal).  The 7x7 sheet under load starts only with the
 # first point's smaller KKT regularisation (test 9).  The 3x3 sheet under

@@ -1,7 +1,7 @@
 #!/bin/sh
 # test_loadpath.sh - the 2x2 Miura-ori of bench/miura-study.sh under
 # gravity and a tip load (issue 12 items 3 and 5, issue 33 item 3;
-# docs/formulations.md, "Exact closure along the path").  The path is the
+# docs/design/model.md, "Exact closure along the path").  The path is the
 # mode-I branch (the three straight crease lines fold, the zigzag ones
 # stay flat), where nearly dependent constraint rows (the near-flat
 # vertices by the free edge) leave the equilibrium's closure open at

@@ -1,6 +1,6 @@
 #!/bin/sh
 # test_morse_unknown.sh - a Morse index the KKT inertia cannot decide is
-# written as an EMPTY `morse` field, never as a number (docs/output-format.md).
+# written as an EMPTY `morse` field, never as a number (docs/reference/output-files.md).
 # The 4 x 4 Miura under load (bench/miura-study.sh 4 load 1, poses, sparse
 # start) with the ARPACK method, whose index comes from the KKT matrix of
 # the independent rows: its last points have nearly dependent constraint
@@ -11,7 +11,7 @@
 #  2. the dense method on the same study (same path: rows at the same p)
 #     has its index inside the stated range at those rows;
 #  3. the inertia method, which first tries the inertia of the corrector's
-#     own matrix (every row kept, regularised: docs/stability.md, "Stable
+#     own matrix (every row kept, regularised: docs/design/linear-algebra.md, "Stable
 #     by the corrector's matrix"), decides every row, those included, as
 #     the dense method does (stable and morse equal at every row).
 # When no row is ambiguous any more (a better inertia), tests 1 and 2 are

@@ -1,7 +1,7 @@
 #!/bin/sh
 # test_pattern.sh - `smoothfold pattern`: every generator's study passes
 # `smoothfold check`; the studies in studies/ are what their documented
-# command writes today (docs/patterns.md); options and their errors.
+# command writes today (docs/guides/patterns.md); options and their errors.
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 . "$src/tests/tap.sh"

@@ -67,7 +67,7 @@ out=$("$bin" run "$src/tests/studies/miura2.cfg" --set solver.formulation=\"pose
       --set analysis.flat_start=\"direct\" --set analysis.stability=false --set analysis.max_steps=20 \
       -o "$tmp/miura2" -q 2>&1); rc=$?
 # max_steps = 20 ends the path inside its range (status 7 and a
-# "# STOPPED EARLY" line, docs/output-format.md) or it reaches p = 1 before
+# "# STOPPED EARLY" line, docs/reference/output-files.md) or it reaches p = 1 before
 # (status 0, with the path's regularised corrector,
 # equilibrium.h); the rows are complete
 if ! { [ $rc -eq 7 ] && grep -q "^# STOPPED EARLY: analysis.max_steps = 20" "$tmp/miura2/branch.tsv"; } &&

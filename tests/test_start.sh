@@ -1,6 +1,6 @@
 #!/bin/sh
 # test_start.sh - analysis.flat_start = "multipliers" (src/analysis/start/,
-# docs/start.md): the closed state of least energy at a given amount of
+# docs/design/start.md): the closed state of least energy at a given amount of
 # folding, by the method of multipliers from the flat sheet, checked
 # against an independent start and an independent proof of locking:
 #  1: on the paper's sheets (degree-4 vertices, Miura, waterbomb and
@@ -12,7 +12,7 @@
 #  2: the 3x3 Miura actuation in face poses: exit 0, p = 1, every written
 #     point closed (rotation rows 1e-10, translation rows 1e-12 m), and
 #     at p = 1 the fold formulation's energy and fold angles (default
-#     start) to 1e-8 (not the probe: docs/start.md, "What it does not do
+#     start) to 1e-8 (not the probe: docs/design/start.md, "What it does not do
 #     yet");
 #  3: the degree-4 vertex with finite widths and K = 0 (tests/studies/
 #     deg4.cfg) is reported locked by a prestress certificate (exit 5,

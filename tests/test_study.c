@@ -641,12 +641,12 @@ static void test_bad_studies(void **state)
 
 /* ---------------------------------------------------------------------- */
 
-/* docs/study-format.md mentions every key of the schema as `path`. */
+/* docs/reference/study-keys.md mentions every key of the schema as `path`. */
 static void test_docs_cover_schema(void **state)
 {
     (void)state;
     char p[2048];
-    src_path(p, sizeof p, "docs/study-format.md");
+    src_path(p, sizeof p, "docs/reference/study-keys.md");
     FILE *f = fopen(p, "r");
     assert_non_null(f);
     size_t cap = 1 << 20;
@@ -662,7 +662,7 @@ static void test_docs_cover_schema(void **state)
         char q[256];
         snprintf(q, sizeof q, "`%s`", k[i].path);
         if (!strstr(doc, q)) {
-            print_error("docs/study-format.md does not mention %s\n", q);
+            print_error("docs/reference/study-keys.md does not mention %s\n", q);
             missing++;
         }
         assert_non_null(k[i].doc);

@@ -52,7 +52,7 @@ int sf_cmd_import(int argc, char **argv, const char *cmdline, const char *output
     snprintf(hdr, sizeof hdr,
              "%s - imported from the FOLD file %s%s.\n\nImported by: %s\n"
              "Unit: %s.  Edges: %d mountain, %d valley, %d unassigned, %d flat%s.\n"
-             "(docs/fold-format.md)", name, in, frame >= 0 ? " (the frame asked for)" : "", cmdline, note,
+             "(docs/guides/importing-patterns.md)", name, in, frame >= 0 ? " (the frame asked for)" : "", cmdline, note,
              nm, nv, nu, nf, nf && !so->include_flat ? " (flat edges dropped: --include-flat keeps them)" : "");
     so->name = name;
     so->header = hdr;

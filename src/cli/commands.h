@@ -26,8 +26,11 @@ int sf_cmd_check(const sf_options *o, sf_error *err);
 int sf_cmd_shape(const sf_options *o, sf_error *err);
 int sf_cmd_run(const sf_options *o, sf_error *err);
 /* `smoothfold sweep STUDY.cfg [OPTION]...` (argv[0] = "sweep"): parses
- * its own options, returns the exit status (sweep.c, docs/sweep.md). */
+ * its own options, returns the exit status (sweep.c, docs/guides/sweeps.md). */
 int sf_cmd_sweep(int argc, char **argv);
+/* `smoothfold keys [--verbose]` (argv[0] = "keys"): the study keys of the
+ * schema, one per line (cmd_keys.c); returns the exit status. */
+int sf_cmd_keys(int argc, char **argv);
 /* One warning line on stderr per value far outside physical sense
  * (rest angles beyond pi, widths below a micrometre, E outside 1 kPa ..
  * 10 TPa); the study stays valid. */

@@ -47,6 +47,8 @@ static const char *usage_text =
     "  sweep STUDY.cfg --vary KEY=V1,V2,... -o DIR\n"
     "                          run variants of a study (serially, or under\n"
     "                          mpirun); smoothfold sweep --help\n"
+    "  keys [--verbose]        list the study keys (with -v: type, default, unit,\n"
+    "                          meaning)\n"
     "\n"
     "Options:\n"
     "  -o, --output=PATH       output file (shape) or directory (run)\n"
@@ -71,7 +73,7 @@ static const char *usage_text =
     "exceeded its tolerance (run: see DIR/compare.tsv), 7 the run stopped\n"
     "at analysis.max_steps inside its range (results written, with a line\n"
     "# STOPPED EARLY), 8 compare: the runs differ by more than --tol.\n"
-    "Documentation: docs/study-format.md, docs/output-format.md.\n";
+    "Documentation: docs/reference/study-keys.md, docs/reference/output-files.md.\n";
 
 /* One command: its name, its positional arguments and its own help. */
 typedef struct command {
@@ -101,7 +103,7 @@ static const command commands[] = {
     {"run", 1, "STUDY.cfg",
      "Usage: smoothfold run STUDY.cfg -o DIR [--set KEY=VALUE]... [--force] [--plot|--no-plot] [-q]\n"
      "Run the study's analysis (equilibrium path or dynamics) and write the results\n"
-     "in DIR (docs/output-format.md).  DIR is created if needed.  Earlier results\n"
+     "in DIR (docs/reference/output-files.md).  DIR is created if needed.  Earlier results\n"
      "of smoothfold in DIR are removed first (the message says which); a DIR that\n"
      "holds other files is refused unless --force is given (they are kept).\n"
      "--plot / --no-plot: draw the plots afterwards (as `smoothfold plot DIR`), or\n"
@@ -265,6 +267,7 @@ int main(int argc, char **argv)
         {NULL, 0, NULL, 0},
     };
     if (argc >= 2 && strcmp(argv[1], "sweep") == 0) return sf_cmd_sweep(argc - 1, argv + 1);
+    if (argc >= 2 && strcmp(argv[1], "keys") == 0) return sf_cmd_keys(argc - 1, argv + 1);
     if (argc >= 2 && sf_cmd_is_pattern(argv[1])) {   /* pattern, import, export */
         sf_error perr;
         sf_error_clear(&perr);
@@ -336,7 +339,7 @@ int main(int argc, char **argv)
     if (optind >= argc) {
         status = fail_usage("missing command (check, shape, run, plot, compare)");
     } else if (!cmd) {
-        snprintf(msg, sizeof msg, "unknown command '%s' (commands: check, shape, run, plot, compare, sweep)",
+        snprintf(msg, sizeof msg, "unknown command '%s' (commands: check, shape, run, plot, compare, pattern, import, export, sweep, keys)",
                  argv[optind]);
         status = fail_usage(msg);
     } else if (argc - optind - 1 != cmd->nargs) {

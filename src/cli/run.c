@@ -1,7 +1,7 @@
 /* run.c - `smoothfold run`: follow the study's equilibrium path with the
  * continuation engine and write DIR/branch.tsv, DIR/stats.csv,
  * DIR/special.tsv, DIR/shapes.pvd (with the VTK files in DIR/shapes/) and DIR/study.cfg
- * (docs/output-format.md).  Every file is written to a temporary name and
+ * (docs/reference/output-files.md).  Every file is written to a temporary name and
  * renamed when complete.  This file: the command, the dispatch by
  * analysis.type, the end of the run; the path itself is run_equilibrium.c. */
 #include <stdio.h>

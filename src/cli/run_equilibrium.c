@@ -184,7 +184,7 @@ static int start_at_flat(run_ctx *r, double *y0, double start, double end, doubl
     return 0;
 }
 
-/* analysis.flat_start = "multipliers" (start.h, docs/start.md): write the
+/* analysis.flat_start = "multipliers" (start.h, docs/design/start.md): write the
  * flat state, find the closed state of least energy at a given amount of
  * folding by the method of multipliers, and hand it to the engine with
  * the chord from the flat state as its tangent (the Jacobian may be

@@ -1,7 +1,7 @@
 /* run_output.c - `smoothfold run`: the files of an equilibrium path, written
  * from the rows gathered point by point (run_point.c): DIR/branch.tsv,
  * stats.csv, special.tsv, reactions.tsv, shapes.pvd, folded.fold, study.cfg
- * and the reference comparison (docs/output-format.md). */
+ * and the reference comparison (docs/reference/output-files.md). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
@@ -48,7 +48,7 @@ int run_write_outputs(run_ctx *r)
     else if (r->eq.pz && sf_peq_rows_rank(&r->eq) >= 0 && sf_peq_rows_rank(&r->eq) < 6 * r->eq.m->nfolds)
         sf_outbuf_printf(&out, "# pose rows: all %d fold rows kept: at a generic state they have "
                          "rank %d = the unknowns, so the dependent ones are equations of their own "
-                         "(more rows than unknowns), not identities (docs/formulations.md)\n",
+                         "(more rows than unknowns), not identities (docs/design/model.md)\n",
                          6 * r->eq.m->nfolds, sf_peq_rows_rank(&r->eq));
     char vline[1500];
     run_validity_summary(r, vline, sizeof vline);

@@ -163,7 +163,7 @@ void run_validity_summary(const run_ctx *r, char *buf, size_t size)
                       a, b, w->cross_sep, w->cross_at[0], w->cross_at[1], w->cross_at[2]);
     }
     if (L < size)
-        snprintf(buf + L, size - L, " (warning column of branch.tsv; docs/output-format.md, "
+        snprintf(buf + L, size - L, " (warning column of branch.tsv; docs/reference/output-files.md, "
                  "\"Physical validity\")");
 }
 
@@ -264,7 +264,7 @@ int run_write_point(run_ctx *r, const cont_point *pt)
         if (!(d <= tol) && !r->drop_bad++)
             run_branch_note(r, "row %ld (branch %d, p = %.10g): a dropped pose constraint row has "
                         "residual %.3g, above the Newton tolerance %.3g: the kept rows do not "
-                        "imply it here (docs/formulations.md; solver.pose_rows = \"all\" keeps "
+                        "imply it here (docs/design/model.md; solver.pose_rows = \"all\" keeps "
                         "every row)", r->npoints, r->bif.branch, pt->p, d, tol);
     }
     double load = eq->param == SF_PARAM_LOAD ? pt->p : eq->load;

@@ -180,7 +180,7 @@ static void emit(const plan *p, sf_outbuf *b, const char *name)
         }
     }
     sf_outbuf_printf(b, "#\n# Folds: mountain (assignment \"M\") and valley (\"V\") by FOLD's sign\n"
-                     "# convention, valley positive (docs/study-format.md).  Setbacks were sized\n"
+                     "# convention, valley positive (docs/reference/study-keys.md).  Setbacks were sized\n"
                      "# so that no two bands overlap (1.25 x the distance at which their edges\n"
                      "# meet, at least 0.1 x the width); change width and setbacks together.\n"
                      "# SI units: m, N, Pa, kg/m^3, rad.\n\n");

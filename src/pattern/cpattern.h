@@ -8,7 +8,7 @@
  *   generator or FOLD file --> sf_cpattern --> commented study .cfg
  *   study (+ topology)      --> sf_cpattern --> FOLD file
  *
- * Sign convention (FOLD's, and the study's: docs/study-format.md): a
+ * Sign convention (FOLD's, and the study's: docs/reference/study-keys.md): a
  * valley fold has a positive fold angle, a mountain fold a negative one.
  * Angles here are in degrees, as in FOLD's edges_foldAngle.
  */

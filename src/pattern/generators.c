@@ -1,5 +1,5 @@
 /* generators.c - Miura-ori, Yoshimura and waterbomb crease patterns
- * (generators.h, docs/patterns.md). */
+ * (generators.h, docs/guides/patterns.md). */
 #include "generators.h"
 
 #include <math.h>

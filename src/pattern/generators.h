@@ -1,5 +1,5 @@
 /* generators.h - crease patterns of the classic tessellations, from a few
- * parameters (docs/patterns.md):
+ * parameters (docs/guides/patterns.md):
  *
  *   miura      Miura-ori: m x n cells of 2 x 2 parallelogram panels with
  *              straight sides a (along x) and zigzag sides b at the sector
