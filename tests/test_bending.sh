@@ -1,0 +1,42 @@
+#!/bin/sh
+# test_bending.sh - bending faces (faces.bending, docs/bending-faces.md):
+# as the faces grow stiff the path tends to the rigid-face path.  The
+# 2x2 Miura under its actuation, the state at p = 1: the largest fold-angle
+# difference from the rigid run, relative to the largest rigid fold angle,
+# is below 1e-6 at a face modulus of 1e15 Pa and falls as 1/E (from 1e11
+# to 1e15 Pa by 1e4 within 5 %); at 1e9 Pa the faces bend visibly (a
+# difference above 1e-2, so that the comparison can fail).  Output is TAP.
+src=${SF_SRCDIR:-$(dirname "$0")/..}
+bin=${SF_BUILDDIR:-.}/src/smoothfold
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+echo "1..3"
+st="$src/studies/miura-2x2.cfg"
+# the EP row: probe1_uz and theta1..theta24
+ep() {
+    awk -F'\t' '/^#/ {next} $1 == "point" {for (i = 1; i <= NF; i++) c[$i] = i; next}
+        $(c["type"]) == "EP" {printf "%s", $(c["probe1_uz"]); for (k = 1; k <= 24; k++) printf " %s", $(c["theta" k]); print ""}' "$1/branch.tsv"
+}
+fail=0
+"$bin" run "$st" -o "$tmp/rigid" -q --set output.shapes=0 >"$tmp/log" 2>&1 || { echo "# rigid run failed: $(cat "$tmp/log")"; fail=1; }
+R=$(ep "$tmp/rigid")
+for E in 1e9 1e11 1e15; do
+    "$bin" run "$st" -o "$tmp/E$E" -q --set output.shapes=0 --set faces.bending=true \
+        --set materials.face.E=$E --set materials.face.nu=0.3 >"$tmp/log" 2>&1 || { echo "# run at E = $E failed: $(cat "$tmp/log")"; fail=1; }
+    B=$(ep "$tmp/E$E")
+    d=$(echo "$R|$B" | awk -F'|' '{n = split($1, r, " "); split($2, b, " "); if (n < 25 || length($2) == 0) {print "nan"; exit}
+        m = 0; d = 0; for (k = 2; k <= n; k++) {a = r[k] < 0 ? -r[k] : r[k]; if (a > m) m = a; x = b[k] - r[k]; if (x < 0) x = -x; if (x > d) d = x}
+        printf "%.6e", d / m}')
+    eval "d_$(echo $E | tr -d +)=$d"
+    echo "# E = $E Pa: max relative fold-angle difference from the rigid faces $d"
+done
+[ $fail = 0 ] || { echo "not ok 1 - runs failed"; echo "not ok 2 - runs failed"; echo "not ok 3 - runs failed"; exit 0; }
+awk -v d="$d_1e15" 'BEGIN {exit !(d + 0 < 1e-6 && d != "nan")}' \
+    && echo "ok 1 - stiffest faces within 1e-6 of the rigid path ($d_1e15)" \
+    || echo "not ok 1 - stiffest faces: expected below 1e-6, got $d_1e15"
+awk -v a="$d_1e11" -v b="$d_1e15" 'BEGIN {r = a / b; exit !(r > 0.95e4 && r < 1.05e4)}' \
+    && echo "ok 2 - the difference falls as 1/E (1e11 to 1e15 Pa: $d_1e11 to $d_1e15)" \
+    || echo "not ok 2 - expected a ratio 1e4 +- 5 % from 1e11 to 1e15 Pa, got $d_1e11 / $d_1e15"
+awk -v d="$d_1e9" 'BEGIN {exit !(d + 0 > 1e-2)}' \
+    && echo "ok 3 - soft faces bend (difference $d_1e9 at 1e9 Pa)" \
+    || echo "not ok 3 - at 1e9 Pa expected a difference above 1e-2, got $d_1e9"
