@@ -45,6 +45,7 @@ static void test_miura_split_and_stiffness(void **state)
     assert_int_equal(s->nfacets, 16);
     assert_int_equal(s->nfolds, 24 + 16);
     assert_int_equal(sc.topo.nfaces, 32);
+    assert_int_equal(s->nraised, 0);   /* the 60 and 120 degree sectors leave the folds' setbacks */
     sf_energy e;
     sf_error err;
     sf_error_clear(&err);

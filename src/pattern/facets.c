@@ -13,7 +13,9 @@
  *              where a face's side runs straight on are no corners.
  *   band       a facet is a narrow smooth fold: width w = facet_width x the
  *              shortest side of its face, K = 0 (circular arc), rest angle 0,
- *              setbacks from sf_cp_setbacks so that it overlaps no band.
+ *              setbacks from sf_cp_setbacks so that it overlaps no band; a
+ *              fold of the study whose sector a facet narrows below what its
+ *              band's corner needs gets a longer setback (facet_setbacks).
  *   stiffness  its rotational stiffness equals the bar-and-hinge panel
  *              bending stiffness of Filipov et al. (IJSS 2017),
  *                K_B = C_B (l / t)^(1/3) E t^3 / (12 (1 - nu^2))   [N m / rad]
@@ -201,24 +203,25 @@ static int read_given(const sf_study *s, int (**given)[2], int *ngiven, sf_error
     return SF_OK;
 }
 
-/* Setbacks of the facets: sf_cp_setbacks over every band and the outline
- * (the generators' margin 1.25 and floor 0.1 w). */
-static int facet_setbacks(const sf_study *s, const sf_topology *t, const facet_list *L,
-                          const double *wf, double (*sbf)[2], sf_error *err)
+/* Setbacks by sf_cp_setbacks (the generators' margin 1.25 and floor
+ * 0.1 w) over the study's folds (width w), the facets (width wf, when L
+ * is not NULL) and the outline; sb gets one row per fold, then per facet. */
+static int auto_setbacks(const sf_study *s, const sf_topology *t, const facet_list *L,
+                         const double *wf, double (*sb)[2])
 {
     sf_cpattern cp;
     sf_cp_init(&cp);
-    int ne = s->nfolds + L->n + t->nboundary;
+    int nfac = L ? L->n : 0, ne = s->nfolds + nfac + t->nboundary;
     double *w = calloc((size_t)ne, sizeof *w);
-    double (*sb)[2] = calloc((size_t)ne, sizeof *sb);
-    int rc = w && sb ? SF_OK : SF_ENOMEM;
+    double (*all)[2] = calloc((size_t)ne, sizeof *all);
+    int rc = w && all ? SF_OK : SF_ENOMEM;
     for (int v = 0; !rc && v < s->nvertices; v++)
         if (sf_cp_add_vertex(&cp, X(s, v)[0], X(s, v)[1], "") < 0) rc = SF_ENOMEM;
     for (int i = 0; !rc && i < s->nfolds; i++) {
         w[cp.ne] = s->folds[i].width;
         if (sf_cp_add_edge(&cp, s->folds[i].a, s->folds[i].b, 'U', NAN) < 0) rc = SF_ENOMEM;
     }
-    for (int k = 0; !rc && k < L->n; k++) {
+    for (int k = 0; !rc && k < nfac; k++) {
         w[cp.ne] = wf[k];
         if (sf_cp_add_edge(&cp, L->ab[k][0], L->ab[k][1], 'F', NAN) < 0) rc = SF_ENOMEM;
     }
@@ -226,16 +229,83 @@ static int facet_setbacks(const sf_study *s, const sf_topology *t, const facet_l
         if (sf_cp_add_edge(&cp, t->boundary[k], t->boundary[(k + 1) % t->nboundary], 'B', NAN) < 0)
             rc = SF_ENOMEM;
     if (!rc) {
-        sf_cp_setbacks(&cp, w, t->boundary, t->nboundary, 1.25, 0.1, sb);
-        for (int k = 0; k < L->n; k++) {
-            sbf[k][0] = sb[s->nfolds + k][0];
-            sbf[k][1] = sb[s->nfolds + k][1];
-        }
+        sf_cp_setbacks(&cp, w, t->boundary, t->nboundary, 1.25, 0.1, all);
+        memcpy(sb, all, (size_t)(s->nfolds + nfac) * sizeof *sb);
     }
     free(w);
-    free(sb);
+    free(all);
     sf_cp_free(&cp);
-    return rc ? sf_fail(err, SF_ENOMEM, "out of memory") : SF_OK;
+    return rc;
+}
+
+typedef struct ray { double ang; int fold; int end; } ray;   /* fold: study fold i, facet nfolds + k, -1 outline */
+static int ray_cmp(const void *pa, const void *pb)
+{
+    const ray *a = pa, *b = pb;
+    return (a->ang > b->ang) - (a->ang < b->ang);
+}
+
+/* The facets' setbacks (sbf, as the generators size them), and the study's
+ * folds' where a facet narrows their sector so much that their band's
+ * corner would leave the face: a band of half-width h beside a facet at
+ * the sector alpha needs a setback beyond h / tan(alpha) (10 % margin) for
+ * its corner to lie inside the face; a fold end short of that is set to
+ * 1.25 times the distance at which its band edge meets the facet band's
+ * (the rule of sf_cp_setbacks).  Elsewhere the study's setbacks stand, so
+ * that the path with stiff faces is the rigid-face path of the same folds. */
+static int facet_setbacks(sf_study *s, const sf_topology *t, const facet_list *L,
+                          const double *wf, double (*sbf)[2], sf_error *err)
+{
+    int nf = s->nfolds;
+    double (*sb1)[2] = calloc((size_t)(nf + L->n) + 1, sizeof *sb1);
+    ray *r = malloc((size_t)(nf + L->n + t->nboundary + 1) * sizeof *r);
+    if (!sb1 || !r || auto_setbacks(s, t, L, wf, sb1)) {
+        free(sb1);
+        free(r);
+        return sf_fail(err, SF_ENOMEM, "out of memory");
+    }
+    for (int k = 0; k < L->n; k++) {
+        sbf[k][0] = sb1[nf + k][0];
+        sbf[k][1] = sb1[nf + k][1];
+    }
+    for (int v = 0; v < s->nvertices; v++) {
+        /* on the outline a face's body runs along the band's edge line up
+         * to the outline whatever the setback (topology_bodies.c) */
+        if (t->ivertex_of[v] < 0) continue;
+        int n = 0;
+        for (int i = 0; i < nf + L->n; i++) {
+            int a = i < nf ? s->folds[i].a : L->ab[i - nf][0], b = i < nf ? s->folds[i].b : L->ab[i - nf][1];
+            if (a != v && b != v) continue;
+            const double *o = X(s, a == v ? b : a);
+            double ang = atan2(o[1] - X(s, v)[1], o[0] - X(s, v)[0]);
+            r[n++] = (ray){ang < 0 ? ang + 2 * M_PI : ang, i, a == v ? 0 : 1};
+        }
+        for (int k = 0; k < t->nboundary; k++) {
+            int a = t->boundary[k], b = t->boundary[(k + 1) % t->nboundary];
+            if (a != v && b != v) continue;
+            const double *o = X(s, a == v ? b : a);
+            double ang = atan2(o[1] - X(s, v)[1], o[0] - X(s, v)[0]);
+            r[n++] = (ray){ang < 0 ? ang + 2 * M_PI : ang, -1, 0};
+        }
+        if (n < 2) continue;
+        qsort(r, (size_t)n, sizeof *r, ray_cmp);
+        for (int k = 0; k < n; k++)
+            for (int side = 0; side < 2; side++) {   /* the fold's neighbour ccw, then cw */
+                const ray *f = &r[k], *g = &r[side ? (k + n - 1) % n : (k + 1) % n];
+                if (f->fold < 0 || f->fold >= nf || g->fold < nf) continue;
+                double alpha = side ? f->ang - g->ang : g->ang - f->ang;
+                if (alpha <= 0) alpha += 2 * M_PI;
+                if (alpha >= M_PI / 2) continue;
+                double h1 = 0.5 * s->folds[f->fold].width, h2 = 0.5 * wf[g->fold - nf];
+                double *d = &s->folds[f->fold].setback[f->end];
+                if (*d >= 1.1 * h1 / tan(alpha)) continue;
+                *d = 1.25 * (h2 + h1 * cos(alpha)) / sin(alpha);
+                s->nraised++;
+            }
+    }
+    free(sb1);
+    free(r);
+    return SF_OK;
 }
 
 double sf_facet_stiffness(double E, double nu, double t, double l, double cb)

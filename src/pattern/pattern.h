@@ -92,6 +92,7 @@ typedef struct sf_study {
     double bending_coefficient; /* C_B of the hinge stiffness */
     double facet_width;         /* facet band width / shortest side of its face */
     int nfacets;
+    int nraised;                /* fold ends whose setback the facets raised */
 
     double fixed_point[2];      /* a point inside the fixed face */
     int fixed_line;
