@@ -5,12 +5,15 @@
 # difference from the rigid run, relative to the largest rigid fold angle,
 # is below 1e-6 at a face modulus of 1e15 Pa and falls as 1/E (from 1e11
 # to 1e15 Pa by 1e4 within 5 %); at 1e9 Pa the faces bend visibly (a
-# difference above 1e-2, so that the comparison can fail).  Output is TAP.
+# difference above 1e-2, so that the comparison can fail).  A FOLD file's
+# F edge (tests/fold/facet-square.fold) is imported as faces.facets and
+# used as the facet of its face, the other face gets one of its own, and
+# export writes both as F edges.  Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 bin=${SF_BUILDDIR:-.}/src/smoothfold
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-echo "1..3"
+echo "1..5"
 st="$src/studies/miura-2x2.cfg"
 # the EP row: probe1_uz and theta1..theta24
 ep() {
@@ -30,13 +33,28 @@ for E in 1e9 1e11 1e15; do
     eval "d_$(echo $E | tr -d +)=$d"
     echo "# E = $E Pa: max relative fold-angle difference from the rigid faces $d"
 done
-[ $fail = 0 ] || { echo "not ok 1 - runs failed"; echo "not ok 2 - runs failed"; echo "not ok 3 - runs failed"; exit 0; }
+# FOLD F edges: import, check with bending on, export
+if "$bin" import "$src/tests/fold/facet-square.fold" -o "$tmp/fs.cfg" >/dev/null 2>"$tmp/log" &&
+   grep -q 'facets = \["v1 v5"\];' "$tmp/fs.cfg" &&
+   "$bin" check "$tmp/fs.cfg" --set faces.bending=true >"$tmp/out" 2>>"$tmp/log" &&
+   grep -q "^bending faces: 2 facet hinges" "$tmp/out" && grep -q "^faces: 4" "$tmp/out"; then
+    echo "ok 1 - the F edge of a FOLD file becomes faces.facets, and a facet with bending on"
+else
+    echo "not ok 1 - import of F edges as facets"; sed 's/^/#   /' "$tmp/log" "$tmp/out" 2>/dev/null
+fi
+if "$bin" export "$tmp/fs.cfg" --set faces.bending=true -o "$tmp/fs.fold" 2>"$tmp/log" &&
+   [ "$(grep -o '"edges_assignment"[^]]*]' "$tmp/fs.fold" | grep -o '"F"' | wc -l)" -eq 2 ]; then
+    echo "ok 2 - export writes the facet hinges as F edges"
+else
+    echo "not ok 2 - export of facets as F edges"; sed 's/^/#   /' "$tmp/log"
+fi
+[ $fail = 0 ] || { echo "not ok 3 - runs failed"; echo "not ok 4 - runs failed"; echo "not ok 5 - runs failed"; exit 0; }
 awk -v d="$d_1e15" 'BEGIN {exit !(d + 0 < 1e-6 && d != "nan")}' \
-    && echo "ok 1 - stiffest faces within 1e-6 of the rigid path ($d_1e15)" \
-    || echo "not ok 1 - stiffest faces: expected below 1e-6, got $d_1e15"
+    && echo "ok 3 - stiffest faces within 1e-6 of the rigid path ($d_1e15)" \
+    || echo "not ok 3 - stiffest faces: expected below 1e-6, got $d_1e15"
 awk -v a="$d_1e11" -v b="$d_1e15" 'BEGIN {r = a / b; exit !(r > 0.95e4 && r < 1.05e4)}' \
-    && echo "ok 2 - the difference falls as 1/E (1e11 to 1e15 Pa: $d_1e11 to $d_1e15)" \
-    || echo "not ok 2 - expected a ratio 1e4 +- 5 % from 1e11 to 1e15 Pa, got $d_1e11 / $d_1e15"
+    && echo "ok 4 - the difference falls as 1/E (1e11 to 1e15 Pa: $d_1e11 to $d_1e15)" \
+    || echo "not ok 4 - expected a ratio 1e4 +- 5 % from 1e11 to 1e15 Pa, got $d_1e11 / $d_1e15"
 awk -v d="$d_1e9" 'BEGIN {exit !(d + 0 > 1e-2)}' \
-    && echo "ok 3 - soft faces bend (difference $d_1e9 at 1e9 Pa)" \
-    || echo "not ok 3 - at 1e9 Pa expected a difference above 1e-2, got $d_1e9"
+    && echo "ok 5 - soft faces bend (difference $d_1e9 at 1e9 Pa)" \
+    || echo "not ok 5 - at 1e9 Pa expected a difference above 1e-2, got $d_1e9"
