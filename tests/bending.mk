@@ -5,4 +5,5 @@ tests_test_facets_SOURCES = tests/test_facets.c
 tests_test_facets_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_facets_LDADD = $(SF_TEST_LIBS)
 TESTS += tests/test_bending.sh
-EXTRA_DIST += tests/test_bending.sh studies/miura-2x2.cfg tests/fold/facet-square.fold
+EXTRA_DIST += tests/test_bending.sh studies/miura-2x2.cfg tests/fold/facet-square.fold \
+	studies/twist.cfg studies/hypar-4.cfg studies/miura-2x2-bending.cfg

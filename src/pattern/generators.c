@@ -310,7 +310,7 @@ int sf_generate(const char *name, const sf_gen_opts *o, sf_cpattern *cp, sf_erro
     if (strcmp(name, "twist") == 0 && !(o->angle > 0 && o->angle < 45))
         return sf_fail(err, SF_EINPUT, "twist: twist angle %g degrees: must be in (0, 45)", o->angle);
     if (strcmp(name, "twist") == 0)
-        snprintf(cp->title, sizeof cp->title, "twist-%g", o->angle);
+        snprintf(cp->title, sizeof cp->title, "twist");
     else if (strcmp(name, "hypar") == 0)
         snprintf(cp->title, sizeof cp->title, "hypar-%d", o->m);
     else
