@@ -38,6 +38,7 @@ include tests/accuracy.mk
 include tests/cli.mk
 include tests/bifurcation.mk
 include tests/pattern.mk
+include tests/bending.mk
 include tests/boundary.mk
 include tests/multibp.mk
 include tests/creaselimit.mk

@@ -22,14 +22,17 @@ static const char *pattern_usage =
     "       smoothfold import PATTERN.fold -o STUDY.cfg [--set KEY=VALUE]... [--unit U] [--frame N]\n"
     "       smoothfold export STUDY.cfg -o PATTERN.fold [--set KEY=VALUE]...\n"
     "Crease patterns: the classic tessellations (NAME: miura, yoshimura,\n"
-    "waterbomb) and FOLD files, written as a ready-to-run study (.cfg) or as\n"
+    "waterbomb, twist, hypar) and FOLD files, written as a ready-to-run study (.cfg) or as\n"
     "FOLD (.fold).  docs/guides/patterns.md, docs/guides/importing-patterns.md.\n"
     "\n"
     "  -o, --output=FILE       the file to write (.cfg: a study; .fold: FOLD)\n"
-    "      --cells=MxN         cells along x and y (default 2x2)\n"
+    "      --cells=MxN         cells along x and y (default 2x2; N alone: NxN;\n"
+    "                          hypar: M rings, default 4)\n"
     "      --size=AxB          panel or cell sizes in m (miura: straight side a,\n"
-    "                          zigzag side b; default per pattern)\n"
-    "      --angle=DEG         miura: sector angle in degrees (default 60)\n"
+    "                          zigzag side b; twist: sheet a, central square b;\n"
+    "                          hypar: sheet a; A alone: AxA; default per pattern)\n"
+    "      --angle=DEG         miura: sector angle in degrees (default 60);\n"
+    "                          twist: twist angle (default 22.5)\n"
     "      --width=W           band width in m (default 0.1 x the shortest fold)\n"
     "      --fold-angle=DEG    actuation rest angle where the pattern gives none\n"
     "                          (default 57.3 degrees = 1 rad)\n"
@@ -61,6 +64,7 @@ static int parse_pair(const char *arg, const char *what, double *x, double *y, s
 {
     char *end;
     *x = strtod(arg, &end);
+    if (end != arg && !*end) { *y = *x; return SF_OK; }   /* N alone: NxN */
     if (end == arg || (*end != 'x' && *end != 'X'))
         return sf_fail(err, SF_EINPUT, "--%s=%s: expected two numbers joined by 'x', e.g. 2x3", what, arg);
     const char *s = end + 1;
@@ -183,8 +187,10 @@ static int cmd_pattern(char **argv, popts *p, sf_error *err)
     if (p->have_size) { g.a = p->g.a; g.b = p->g.b; }
     if (p->have_angle) g.angle = p->g.angle;
     g.fold_angle = p->s.fold_angle * 180 / M_PI;
-    if (p->have_angle && strcmp(name, "miura") != 0)
-        return sf_fail(err, SF_EINPUT, "pattern %s: --angle applies to miura only", name);
+    if (p->have_angle && strcmp(name, "miura") != 0 && strcmp(name, "twist") != 0)
+        return sf_fail(err, SF_EINPUT, "pattern %s: --angle applies to miura and twist only", name);
+    /* twist and hypar fold only if their faces bend */
+    if (strcmp(name, "twist") == 0 || strcmp(name, "hypar") == 0) p->s.bending = 1;
     sf_cpattern cp;
     if (sf_generate(name, &g, &cp, err)) return err->code;
     /* the waterbomb's path from the flat sheet starts with its valleys
@@ -226,7 +232,7 @@ int sf_cmd_pattern(int argc, char **argv, sf_error *err)
     if (!rc && !p.output) rc = sf_fail(err, SF_EINPUT, "%s: give the output file with -o FILE", argv[0]);
     if (!rc && optind + 1 != argc)
         rc = sf_fail(err, SF_EINPUT, "%s: expected %s", argv[0],
-                     strcmp(argv[0], "pattern") == 0 ? "one pattern name (miura, yoshimura, waterbomb)"
+                     strcmp(argv[0], "pattern") == 0 ? "one pattern name (miura, yoshimura, waterbomb, twist, hypar)"
                      : strcmp(argv[0], "import") == 0 ? "one FOLD file" : "one study file");
     if (rc) { free(p.sets); return SF_CMD_USAGE; }
     if (!rc) {

@@ -153,6 +153,10 @@ int sf_cmd_check(const sf_options *o, sf_error *err)
     printf("folds: %d (G1 %d, G2 %d; shape modes K = %d", s->nfolds, ng1, ng2, kmin);
     if (kmax != kmin) printf("..%d", kmax);
     printf("; %d generalised coordinates)\n", m->nq);
+    if (s->bending)
+        printf("bending faces: %d facet hinges (folds %d..%d; docs/bending-faces.md), %d setback%s of "
+               "the study's folds raised to clear them\n", s->nfacets, s->nfolds - s->nfacets + 1,
+               s->nfolds, s->nraised, s->nraised == 1 ? "" : "s");
     print_vertices(s, t, o->verbose);
     const sf_face *root = &t->faces[t->root];
     printf("fixed face: %d (contains (%g, %g); %d corners, area %.6g m^2)\n", t->root + 1,

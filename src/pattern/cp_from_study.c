@@ -17,6 +17,7 @@
 static char fold_sign(const sf_study *s, int i, double *angle, sf_error *err)
 {
     const sf_fold_def *f = &s->folds[i];
+    if (f->facet) { *angle = NAN; return 'F'; }   /* a bending face's facet hinge */
     double r = f->group >= 0 ? s->groups[f->group].rest_angle : f->rest_angle;
     char key[64];
     snprintf(key, sizeof key, "folds[%d].assignment", i);

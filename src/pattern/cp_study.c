@@ -107,6 +107,8 @@ static int plan_make(plan *p, const sf_cpattern *cp, const sf_cp_study_opts *o, 
         p->fold_edge[p->nfold++] = e;
         p->vused[cp->e[e].a] = p->vused[cp->e[e].b] = 1;
     }
+    for (int e = 0; e < cp->ne; e++)   /* the ends of facet edges (F) are kept */
+        if (cp->e[e].assign == 'F' && !o->include_flat) p->vused[cp->e[e].a] = p->vused[cp->e[e].b] = 1;
     if (p->nfold == 0) {
         free(loop);
         return sf_fail(err, SF_EINPUT, "the crease pattern has no folds (no M, V or U edges%s)",
@@ -195,10 +197,32 @@ static void emit(const plan *p, sf_outbuf *b, const char *name)
     for (int k = 0; k < p->noutline; k++)
         sf_outbuf_printf(b, "%s\"%s\"", k ? ", " : "", p->vname[p->outline[k]]);
     sf_outbuf_printf(b, "]; };\n\n");
+    int nflat = 0;   /* F edges not made folds: facet edges of bending faces */
+    for (int e = 0; e < cp->ne; e++) nflat += cp->e[e].assign == 'F' && !o->include_flat;
+    int plate = o->bending || nflat;
     sf_outbuf_printf(b, "materials = {\n"
                      "  fold = { E = 15.2e6; nu = 0.45; thickness = 1.8e-3; density = 1200.0; };\n"
-                     "  face = { thickness = 2.0e-3; density = 1040.0; };\n"
-                     "};\nfaces = { material = \"face\"; };\n\n");
+                     "  face = { %sthickness = 2.0e-3; density = 1040.0; };\n"
+                     "};\n", plate ? "E = 2.0e9; nu = 0.3; " : "");
+    if (!plate) {
+        sf_outbuf_printf(b, "faces = { material = \"face\"; };\n\n");
+    } else {
+        if (nflat)
+            sf_outbuf_printf(b, "# The pattern's flat (F) edges are the facet edges of its faces: with\n"
+                             "# bending = true the faces bend along them (docs/bending-faces.md).\n");
+        else
+            sf_outbuf_printf(b, "# This pattern folds only if its faces bend (docs/bending-faces.md).\n");
+        sf_outbuf_printf(b, "faces = {\n  material = \"face\";\n  bending = %s;\n", o->bending ? "true" : "false");
+        if (nflat) {
+            sf_outbuf_printf(b, "  facets = [");
+            int k = 0;
+            for (int e = 0; e < cp->ne; e++)
+                if (cp->e[e].assign == 'F' && !o->include_flat)
+                    sf_outbuf_printf(b, "%s\"%s %s\"", k++ ? ", " : "", p->vname[cp->e[e].a], p->vname[cp->e[e].b]);
+            sf_outbuf_printf(b, "];\n");
+        }
+        sf_outbuf_printf(b, "};\n\n");
+    }
     sf_outbuf_printf(b, "defaults = {\n  width = %s;   # band width of every fold\n"
                      "  continuity = 1;\n  modes = %d;\n  material = \"fold\";\n};\n\n",
                      real(r1, p->w), o->modes);

@@ -110,6 +110,8 @@ typedef struct sf_cp_study_opts {
     int gravity;              /* add gravity (stage 1) */
     double load;              /* point load [N] downwards at the probe (0: none) */
     const char *drive;        /* actuation group driven by p (analysis.group), NULL: all */
+    int bending;              /* faces.bending = true, with E and nu in the face
+                                 material (twist, hypar) */
 } sf_cp_study_opts;
 
 void sf_cp_study_opts_default(sf_cp_study_opts *o);

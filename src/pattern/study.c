@@ -15,6 +15,7 @@
  * free names (vertices, materials); "a[]" each element of list a.
  */
 #include "study_impl.h"
+#include "facets.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -59,7 +60,11 @@ static const sf_study_key schema[] = {
     {"materials.*.density",        NUM,   NONNEG,         0, 0,       NULL,          NULL, "kg/m^3", "density (required for materials in use when gravity or inertia is on)"},
 
     {"faces",                      G,     0,              0, 0,       NULL,          NULL, "-", "the rigid faces"},
-    {"faces.material",             STR,   REQ,            0, 0,       NULL,          NULL, "-", "material of the faces (thickness, density; needed for gravity)"},
+    {"faces.material",             STR,   REQ,            0, 0,       NULL,          NULL, "-", "material of the faces (thickness, density; needed for gravity; E and nu when they bend)"},
+    {"faces.bending",              BOOL,  0,              0, 0,       "false",       NULL, "-", "faces bend: each face is split into rigid triangles joined by facet hinges whose stiffness follows from the face material (docs/bending-faces.md)"},
+    {"faces.bending_coefficient",  NUM,   POS,            0, 0,       "0.55",        NULL, "-", "C_B of the facet hinge stiffness C_B (L/t)^(1/3) E t^3 / (12 (1 - nu^2)) (Filipov et al. 2017; docs/bending-faces.md)"},
+    {"faces.facet_width",          NUM,   SF_KEY_GT | SF_KEY_LE, 0, 0.25, "0.02", NULL, "-", "band width of a facet hinge as a fraction of the shortest side of its face"},
+    {"faces.facets",               NAMES, 0,              0, 0,       NULL,          NULL, "-", "facet edges given, each \"from to\" (two vertex names); faces without one are triangulated automatically (FOLD's F edges, written by import)"},
 
     {"defaults",                   G,     AUTO,           0, 0,       NULL,          NULL, "-", "fold settings used where a fold does not give its own"},
     {"defaults.width",             NUM,   POS,            0, 0,       NULL,          NULL, "m", "band width w"},
@@ -428,6 +433,7 @@ int sf_study_load(const char *path, int nset, const char *const *sets,
     if (!rc) rc = st_fill(s, cfg, err);
     if (!rc) rc = st_materialize(s, cfg, err);
     if (!rc) rc = sf_study_check_assignments(s, err);   /* assignment.c */
+    if (!rc) rc = sf_study_add_facets(s, err);          /* facets.c: faces.bending */
     if (rc) {
         sf_study_free(s);
         return rc;

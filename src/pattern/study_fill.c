@@ -178,6 +178,18 @@ static int fill_materials(sf_study *s, const config_setting_t *root, sf_error *e
         if (s->face_material < 0)
             return st_bad(s, err, fm, "unknown material '%s'%s", fm->value.sval, st_hint(h, sizeof h, MSUG(fm->value.sval)));
     }
+    /* bending faces: the facet hinges' stiffness needs the plate's E, nu */
+    const config_setting_t *fc = st_mem(root, "faces");
+    s->bending = fc && get_bool(fc, "bending", "faces.bending");
+    s->bending_coefficient = get_num(fc, NULL, "bending_coefficient", "faces.bending_coefficient", NULL);
+    s->facet_width = get_num(fc, NULL, "facet_width", "faces.facet_width", NULL);
+    if (s->bending) {
+        const config_setting_t *mse = st_mem(ms, fm->value.sval);
+        if (!st_mem(mse, "E"))
+            return st_bad(s, err, mse, "missing E (required because faces.bending is on and the faces use this material)");
+        if (!st_mem(mse, "nu"))
+            return st_bad(s, err, mse, "missing nu (required because faces.bending is on and the faces use this material)");
+    }
     return SF_OK;
 }
 
