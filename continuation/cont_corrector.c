@@ -329,10 +329,10 @@ static int regularised(cont_solver *s, newton_fn newton, double *x, const double
         s->reg_fs = fs;
         if (round == CONT_REG_ROUNDS ||
             s->prob.regularise(x, x[n], s->ftol, CONT_REG_TIGHTEN, NULL, u) != 0) {
-            /* nothing left to tighten: the plain Newton's own acceptance
+            /* nothing to tighten at the first round: the plain Newton's own acceptance
              * (kin_correct: ten times the tolerance where it stagnates)
              * stands, as without a regularisation */
-            if (fs <= 10.0 * s->ftol) break;
+            if (round == 0 && fs <= 10.0 * s->ftol) break;
             ci_why(s, "the regularised equations were solved, the plain ones not: scaled "
                    "residual %.3g > %.3g after %d smaller regularisations", fs, s->ftol, round);
             s->fail_fs = fs;
