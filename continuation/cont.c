@@ -162,6 +162,9 @@ void ci_clear_run(cont_solver *s)
     for (long i = 0; i < s->nspec; i++) ci_pt_free(s->spec[i]);
     s->nspec = 0;
     s->state = ST_IDLE;
+    s->anchor_level = 0;
+    s->reuse_level = 0;
+    memset(&s->afl, 0, sizeof s->afl);
     s->stop_reason = CONT_STOP_NONE;
     s->steps = 0;
     s->index = 0;
@@ -424,10 +427,10 @@ int cont_set_predictor(cont_solver *s, int order)
     return CONT_OK;
 }
 
-int cont_set_locate_reuse(cont_solver *s, int on)
+int cont_set_anchor_first(cont_solver *s, int on)
 {
     NEED(s);
-    s->locate_reuse = on != 0;
+    s->anchor_first = on != 0;
     return CONT_OK;
 }
 

@@ -253,34 +253,22 @@ typedef int (*cont_residual_fn)(const double *y, double p, double *F,
 typedef int (*cont_jacobian_fn)(const double *y, double p, SUNMatrix Jy,
                                 double *Fp, void *user);
 
-/* Optional regularisation of the equations, for a problem whose
- * Jacobian is singular or nearly so at its solutions in a way the
- * corrector cannot resolve (e.g. the Lagrange multipliers of constraint
- * rows that are exactly or nearly dependent): F is then a regularised
- * residual F_delta whose Jacobian the problem gives exactly, and whose
- * solutions solve the plain equations F_0 = 0 up to a bias that shrinks
- * with delta or that an update of an anchor removes, such as the
- * constraint rows of the method of multipliers, g - delta (lambda -
- * lambda_a).  The corrector runs Newton on F_delta, then again after
- * anchoring the regularisation at the point (multiplier updates, while
- * they halve the plain residual, at most CONT_REG_UPDATES), and accepts
- * the point only where the plain residual meets ftol; where it
- * does not, it asks the problem for a smaller delta and solves again
- * from there (at most CONT_REG_ROUNDS times in one attempt).  action:
- *   CONT_REG_SET      start an attempt: the regularisation for a step
- *                     from the point y (the base point, or the guess of a
- *                     fixed-p solve), anchored at zero; F unused;
- *   CONT_REG_ANCHOR   anchor it at the point y (a multiplier update);
- *   CONT_REG_TIGHTEN  y solves F_delta but not F_0 to ftol: a smaller
- *                     delta from y, the anchor kept; return 1 when there
- *                     is none (a limit of the problem), F unused;
- *   CONT_REG_PLAIN    the plain residual F_0(y, p) into F (n values).
- * Return 0 on success. */
-enum { CONT_REG_SET = 0, CONT_REG_TIGHTEN = 1, CONT_REG_PLAIN = 2, CONT_REG_ANCHOR = 3 };
-#define CONT_REG_ROUNDS 8
-#define CONT_REG_UPDATES 4
-typedef int (*cont_regularise_fn)(const double *y, double p, double ftol, int action,
-                                  double *F, void *user);
+/* Optional proximal anchor, for problems whose Jacobian carries a
+ * regularisation -eps D on some unknowns (e.g. the multipliers of nearly
+ * dependent constraints) that F itself does not: on = k >= 1 makes F
+ * include -eps_k D (y - ya) on those rows, anchored at ya = y (the given
+ * state), and the Jacobian carry -eps_k D, so that it is F's exact
+ * Jacobian; eps_1 = the problem's eps, each further level a smaller weight
+ * (the problem's choice; sf_equil_anchor: 10 times smaller), which
+ * resolves constraint directions that eps hides at the price of
+ * conditioning.  on = 0 (y NULL) restores the plain F.  The corrector
+ * retries an attempt that stagnated at a residual floor near the
+ * tolerance with it (levels 1 to 5, each from the best point the earlier
+ * ones reached; 5 only after 1 to 4 failed), and once that succeeded,
+ * tries it first at every later attempt of the run, from the level that
+ * succeeded (at most 4); a result is kept
+ * only if the plain F meets the tolerance.  Return 0 on success. */
+typedef int (*cont_anchor_fn)(const double *y, double p, int on, void *user);
 
 /* Optional user test functions: out[k], k < ntest, at the point (y, p) with
  * unit tangent (ty, tp).  A zero between consecutive points is located and
@@ -305,7 +293,7 @@ typedef struct cont_problem {
     const double *yscale;
     double pscale;
     const double *fscale;
-    cont_regularise_fn regularise; /* optional (NULL: F is the plain residual) */
+    cont_anchor_fn anchor;        /* optional (NULL: none) */
     /* nonzero: Jy is symmetric (to round-off) at every (y, p).  With a
      * sparse Jy and MUMPS the tangent/corrector bordered systems are then
      * solved by block elimination on the LDL^T of Jy, falling back to the
@@ -410,17 +398,32 @@ double cont_arc_norm(const cont_solver *s, const double *dy, double dp);
  * a = 1 / sqrt(count of weighted components): an RMS measure of dy whose
  * steps mean the same on a small and a large problem. */
 int cont_set_arc_scale(cont_solver *s, double a);
-/* on != 0: special points are located and the end of the p window landed
- * on with the step corrector (the reusing Newton first, KINSOL's after
- * it) instead of KINSOL's alone, whose unsymmetric LU of the bordered
- * matrix is slow on large saddle-point problems.  Default 0. */
-int cont_set_locate_reuse(cont_solver *s, int on);
+/* on != 0: the reusing corrector (CONT_CORRECTOR_REUSE, no line search)
+ * solves the problem's anchored system (cont_anchor_fn) first at every
+ * step from the first one, and at the landing on the end of the p
+ * window, not only after a residual floor was met: from the predictor,
+ * anchored at its multipliers, at the smaller weights of the next levels
+ * while a level converges but the plain F stays above ftol; a result is
+ * kept only if the plain F meets ftol, else the plain correctors follow
+ * as without it.  A point of the first level is then re-anchored at
+ * itself twice (proximal iterations with the same factors), which removes
+ * most of the anchor's bias eps D (y - ya) from the state, also before the
+ * next level is tried where the plain F misses ftol there (a miss by the
+ * bias is not a floor: the smaller weights would stay for the rest of the
+ * run, and the second-order predictor off); these iterations are not
+ * counted by the step control.  For long steps on problems whose Jacobian is singular
+ * at the solutions in directions it is not singular in nearby (e.g. self-
+ * stresses of constraints that exist only on the solution set), where the
+ * plain Newton converges only linearly.  Default 0. */
+int cont_set_anchor_first(cont_solver *s, int on);
 /* the predictor of a step of length ds from x with tangent t: order 1 (the
  * default) x + ds t; order 2 adds the curvature estimated from the change
  * of the tangent over the last step (length h, tangent t_prev before it):
  * x + ds t + ds^2 / 2 (t - t_prev) / h; its error is O(ds^3) instead of
  * O(ds^2), so a longer step starts as close to the branch.  The first
- * step after a start or a branch switch is of order 1. */
+ * step after a start or a branch switch is of order 1, and so is every
+ * step once a residual floor was met (an anchored solve needed a level
+ * above 1: the tangents there are fixed only to the floor's accuracy). */
 int cont_set_predictor(cont_solver *s, int order);
 /* corrector: tolerance on max|fscale F| (default 1e-10), iterations
  * (default 10), strategy KIN_NONE (0, default) or KIN_LINESEARCH (1) */

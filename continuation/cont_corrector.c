@@ -1,8 +1,6 @@
 /* cont_corrector.c - the corrector (cont.h, ALGORITHM): KINSOL's Newton
  * on F(y, p) = 0 bordered by c.(x - xa) = sig, with the Jacobian of the
- * bordered system, or the engine's own reusing Newton; with a problem's
- * regularisation (cont_regularise_fn) on its regularised equations, the
- * point accepted by the plain ones; Newton at fixed p (cont_solve_fixed). */
+ * bordered system; Newton at fixed p (cont_solve_fixed). */
 #include "cont_impl.h"
 
 #include <stdio.h>
@@ -12,6 +10,9 @@
 #define REFINE_MAX 10      /* refinements of a solve with reused factors */
 #define REFINE_TOL 1e-10   /* their relative accuracy */
 #define REFINE_FLOOR 1e-7  /* accepted when they stall there (rounding) */
+#define ANCHOR_LEVELS 4    /* levels of the anchored solve (cont_anchor_fn) */
+#define ANCHOR_LAST 5      /* ... and the last one, tried after those failed */
+#define REANCHORS 2        /* proximal iterations after an anchored solve */
 
 int ci_kin_sys(N_Vector uv, N_Vector fv, void *data)
 {
@@ -115,11 +116,70 @@ static int polish(cont_solver *s, double *u, int *iters)
     return -1;
 }
 
-/* KINSOL's Newton on F(x) = 0, c.(x - xa) = sig from the guess x
- * (overwritten with the solution on success).  0 ok, -1 failed (reason in
- * s->why). */
-static int kin_correct(cont_solver *s, double *x, const double *c, const double *xa,
-                       double sig, int maxit, int strategy, int *nit, double *fnorm)
+/* Newton on the problem's anchored F (cont_anchor_fn) from u = s->u: its
+ * Jacobian is the regularised one, so it converges where the plain F
+ * stagnates at a floor.  The levels from s->anchor_level (at least 1) to
+ * ANCHOR_LAST in turn, each anchored at the best point so far (the lowest
+ * plain residual; a smaller weight resolves constraint directions the
+ * regularisation hides), until the plain residual meets ftol.  A level
+ * that ends at KINSOL's iteration limit still offers its point (the
+ * anchored Newton of a small weight can stall at its own rounding floor
+ * next to a point that meets the plain tolerance).  s->anchor_level is
+ * then the level that did, at most ANCHOR_LEVELS: the last level is only
+ * tried after the others failed in this attempt.  0 ok (u updated), -1
+ * not (u restored). */
+static int anchored_solve(cont_solver *s, int maxit, int strategy, int *nit)
+{
+    long n = s->n, m = s->m;
+    double *u = N_VGetArrayPointer(s->u);
+    if (!ci_all_finite(u, m)) return -1;
+    memcpy(s->w1, u, (size_t)m * sizeof(double));
+    double *f = malloc((size_t)n * sizeof(double));
+    double *best = malloc((size_t)m * sizeof(double));
+    if (!f || !best) {
+        free(f);
+        free(best);
+        return -1;
+    }
+    memcpy(best, u, (size_t)m * sizeof(double));
+    double fs = INFINITY, fbest = INFINITY;
+    int lev = s->anchor_level > 1 ? s->anchor_level : 1;
+    for (; lev <= ANCHOR_LAST; lev++) {
+        memcpy(u, best, (size_t)m * sizeof(double));
+        if (s->prob.anchor(u, u[n], lev, s->prob.user) != 0) break;
+        KINSetNumMaxIters(s->kmem, maxit);
+        int flag = KINSol(s->kmem, s->u, strategy, s->uscale, s->fscale);
+        s->prob.anchor(NULL, 0.0, 0, s->prob.user);
+        long nni = 0;
+        KINGetNumNonlinSolvIters(s->kmem, &nni);
+        s->stp.newton_iters += nni;
+        s->stp.nlinsolve += nni;
+        if (nit) *nit += (int)nni;
+        fs = INFINITY;
+        if ((flag >= 0 || flag == KIN_LINESEARCH_NONCONV || flag == KIN_MAXITER_REACHED) &&
+            ci_all_finite(u, m) && ci_call_residual(s, u, u[n], f) == 0)
+            fs = ci_fscaled_max(s, f, n);
+        s->anchor_fs = fmin(s->anchor_fs, fs);
+        if (fs <= s->ftol) break;
+        if (fs < fbest) {
+            fbest = fs;
+            memcpy(best, u, (size_t)m * sizeof(double));
+        }
+    }
+    free(f);
+    free(best);
+    if (fs <= s->ftol) {
+        s->anchor_level = lev < ANCHOR_LEVELS ? lev : ANCHOR_LEVELS;
+        return 0;
+    }
+    memcpy(u, s->w1, (size_t)m * sizeof(double));   /* as the plain attempt left it */
+    return -1;
+}
+
+/* Solve F(x) = 0, c.(x - xa) = sig from the guess x (overwritten with the
+ * solution on success).  0 ok, -1 failed (reason in s->why). */
+int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
+               double sig, int maxit, int strategy, int *nit, double *fnorm)
 {
     long m = s->m;
     int track = s->att_track;   /* a step attempt's plain Newton (ci_correct_step) */
@@ -132,9 +192,25 @@ static int kin_correct(cont_solver *s, double *x, const double *c, const double 
     s->why[0] = '\0';
     s->kin_msg[0] = '\0';
     s->kin_fs = s->fail_fs = NAN;
+    s->anchor_fs = INFINITY;
     KINSetNumMaxIters(s->kmem, maxit);
     KINSetFuncNormTol(s->kmem, s->ftol);
     KINSetScaledStepTol(s->kmem, 1e-15);
+    if (s->prob.anchor && s->anchor_level) {
+        /* a residual floor was met earlier on this run: the anchored
+         * system first (from the guess, anchored at its multipliers); the
+         * plain attempt only if that fails */
+        int na = 0;
+        if (anchored_solve(s, maxit, strategy, &na) == 0) {
+            if (nit) *nit = na;
+            if (fnorm) *fnorm = s->last_fnorm;
+            memcpy(x, N_VGetArrayPointer(s->u), (size_t)m * sizeof(double));
+            return 0;
+        }
+        s->stp.retries++;
+        memcpy(N_VGetArrayPointer(s->u), x, (size_t)m * sizeof(double));
+        KINSetNumMaxIters(s->kmem, maxit);
+    }
     s->att_track = track;
     int flag = KINSol(s->kmem, s->u, strategy, s->uscale, s->fscale);
     s->att_track = 0;
@@ -194,8 +270,17 @@ static int kin_correct(cont_solver *s, double *x, const double *c, const double 
             s->kin_msg[0] ? ": " : "", s->kin_msg);
         free(name);
         s->fail_fs = s->kin_fs;
+        if (s->prob.anchor && s->fail_fs <= 10.0 * s->ftol &&
+            anchored_solve(s, maxit, strategy, nit) == 0) {
+            ok = 1;
+            s->why[0] = '\0';
+            s->fail_fs = NAN;
+        }
     }
     if (fnorm) *fnorm = s->last_fnorm;
+    /* a failed attempt's residual: the lowest plain residual reached,
+     * anchored solves included (cont_step.c's floor diagnosis) */
+    if (!ok && s->anchor_fs < INFINITY && !(s->fail_fs <= s->anchor_fs)) s->fail_fs = s->anchor_fs;
     if (!ok) return -1;
     memcpy(x, u, (size_t)m * sizeof(double));
     return 0;
@@ -207,160 +292,132 @@ static int refine_solve(cont_solver *s, const double *c, const double *rhs, doub
 static int reuse_newton(cont_solver *s, double *x, const double *c, const double *xa,
                         double sig, int maxit, int monotone, int have, int *nit, double *fnorm);
 
-/* One step attempt's Newton: the reusing corrector (from the factors of
- * the last iterate where s->reg_have says they fit), then KINSOL's from
- * the same guess. */
-static int step_newton(cont_solver *s, double *x, const double *c, const double *xa, double sig,
-                       int maxit, int strategy, int *nit, double *fnorm)
-{
-    if (strategy == KIN_NONE) {
-        s->att_track = 1;
-        int r = reuse_newton(s, x, c, xa, sig, maxit, 0, s->reg_have, nit, fnorm);
-        s->att_track = 0;
-        if (r == 0) return 0;
-    }
-    s->att_track = 1;
-    int r = kin_correct(s, x, c, xa, sig, maxit, strategy, nit, fnorm);
-    s->att_track = 0;
-    return r;
-}
-
-/* Newton at fixed p from a guess: the reusing corrector first (the
- * symmetric block elimination where Jy is symmetric): from a good guess,
- * such as the flat start's first point, it converges in a few iterations,
- * while KINSOL's linear solver factorises the bordered matrix by
- * unsymmetric LU, whose delayed pivots make it grow as about n^3 on the
- * pose formulation (Miura 20x20: 46 s); KINSOL with the start's strategy,
- * from the unchanged guess, when it does not converge.  c = e_p, xa = the
- * guess. */
-static int fixed_newton(cont_solver *s, double *x, const double *c, const double *xa, double sig,
-                        int maxit, int strategy, int *nit, double *fnorm)
-{
-    (void)strategy;
-    return reuse_newton(s, x, c, xa, sig, maxit, s->init_strategy != KIN_NONE, s->reg_have, nit,
-                        fnorm) == 0
-               ? 0
-               : kin_correct(s, x, c, xa, sig, maxit, s->init_strategy, nit, fnorm);
-}
-
-typedef int (*newton_fn)(cont_solver *s, double *x, const double *c, const double *xa,
-                         double sig, int maxit, int strategy, int *nit, double *fnorm);
-
-/* The corrector with the problem's regularisation (cont_regularise_fn):
- * the regularisation from the base point xa, Newton on F_delta, then
- * multiplier updates (anchored at the point, Newton again from it with
- * the same factors) while they lower the plain residual by half, at most
- * CONT_REG_UPDATES, and the point accepted where the plain residual meets
- * ftol; otherwise a smaller regularisation and the same again from there,
- * up to CONT_REG_ROUNDS times.  *nit counts the Newton iterations before the
- * updates (the measure of a step's difficulty; the updates' iterations
- * are in the statistics).  Without a regularisation, newton alone.  0 ok
- * (x the point), -1 failed (x as given, reason in s->why). */
-static int regularised(cont_solver *s, newton_fn newton, double *x, const double *c,
-                       const double *xa, double sig, int maxit, int strategy, int *nit,
-                       double *fnorm)
+/* The anchored point of the first level u (plain residual fs) leaves
+ * eps D (lambda - lambda_a) on the constraint rows, a bias of the state
+ * within the tolerance, or just above it; re-anchored at the point
+ * (proximal iterations, each an exact Newton iteration or two from the
+ * point with the same factors) it shrinks: on the Miura sheets two bring
+ * the fold angles to the plain corrector's points (continuation/README.md,
+ * "Larger steps").  Up to REANCHORS of them; one is kept if its plain
+ * residual meets ftol or is below the one before, else u is left as it
+ * was.  Not counted by the step control (s->polish_iters), counted in the
+ * statistics.  Only at the first level: at a residual floor (smaller
+ * weights) the proximal iterations drift along the nearly dependent rows
+ * instead (docs/formulations.md, "Exact treatments tried").  Returns the
+ * plain residual at u (INFINITY if it cannot be evaluated). */
+static double reanchor(cont_solver *s, double *u, const double *c, const double *xa,
+                       double sig, int maxit, double fs)
 {
     long n = s->n, m = s->m;
-    s->reg_fs = NAN;
-    s->reg_changed = 0;
-    if (!s->prob.regularise) return newton(s, x, c, xa, sig, maxit, strategy, nit, fnorm);
-    void *u = s->prob.user;
-    double *x0 = malloc((size_t)m * sizeof(double)), *xu = malloc((size_t)m * sizeof(double));
-    /* xu: the point before the last multiplier update */
-    double *f = malloc((size_t)n * sizeof(double));
-    if (!x0 || !xu || !f) {
-        free(x0);
-        free(xu);
-        free(f);
-        ci_why(s, "out of memory");
-        return -1;
+    for (int j = 0; j < REANCHORS; j++) {
+        memcpy(s->w1, u, (size_t)m * sizeof(double));
+        if (s->prob.anchor(u, u[n], 1, s->prob.user) != 0) break;
+        int r = reuse_newton(s, u, c, xa, sig, maxit, 0, 1, NULL, NULL);
+        s->prob.anchor(NULL, 0.0, 0, s->prob.user);
+        double f2 = INFINITY;
+        if (r == 0 && ci_call_residual(s, u, u[n], s->rw) == 0) f2 = ci_fscaled_max(s, s->rw, n);
+        if (!(f2 <= s->ftol || f2 < fs)) {   /* keep the point before */
+            memcpy(u, s->w1, (size_t)m * sizeof(double));
+            if (ci_call_residual(s, u, u[n], s->rw) != 0) fs = INFINITY;
+            break;
+        }
+        fs = f2;
     }
-    memcpy(x0, x, (size_t)m * sizeof(double));
-    int total = 0, r = s->prob.regularise(xa, xa[n], s->ftol, CONT_REG_SET, NULL, u) ? -1 : 0;
-    if (r) ci_why(s, "the problem's regularisation failed at the base point");
-    for (int round = 0; r == 0; round++) {
-        int k = 0;
-        r = newton(s, x, c, xa, sig, maxit, strategy, &k, fnorm);
-        total += k;
-        if (r && round == 0) {
-            /* the penalty's multipliers g / delta are far from the guess's
-             * where the guess leaves nearly dependent rows open: the
-             * method of multipliers from the guess's multipliers instead */
-            memcpy(x, x0, (size_t)m * sizeof(double));
-            if (s->prob.regularise(x, x[n], s->ftol, CONT_REG_ANCHOR, NULL, u) == 0) {
-                r = newton(s, x, c, xa, sig, maxit, strategy, &k, fnorm);
-                total += k;
-            }
-        }
-        if (r) break;
-        /* multiplier updates, while they contract (each removes the
-         * penalty's bias where the problem resolves the constraints, and
-         * a share of the rest), at most CONT_REG_UPDATES; a failed one
-         * keeps the point before */
-        double fs = INFINITY;
-        for (int up = 0;; up++) {
-            if (s->prob.regularise(x, x[n], s->ftol, CONT_REG_PLAIN, f, u) != 0) {
-                ci_why(s, "the plain residual could not be evaluated at the corrected point");
-                r = -1;
-                break;
-            }
-            double fu = ci_fscaled_max(s, f, n);
-            if (up > 0 && !(fu < 0.5 * fs)) {   /* no longer contracting: the point before */
-                memcpy(x, xu, (size_t)m * sizeof(double));
-                break;
-            }
-            fs = fu;
-            /* on while they contract, below ftol too: where the problem
-             * resolves the constraints they close to round-off */
-            if (fs <= 1e-3 * s->ftol || up == CONT_REG_UPDATES) break;
-            memcpy(xu, x, (size_t)m * sizeof(double));
-            int have = s->rgen == s->bt.gen && s->rgen >= 0;   /* the last iterate's factors */
-            if (s->prob.regularise(x, x[n], s->ftol, CONT_REG_ANCHOR, NULL, u) != 0) break;
-            s->reg_have = have;   /* the Jacobian does not depend on the anchor */
-            int ok = newton(s, x, c, xa, sig, maxit, strategy, &k, NULL) == 0;
-            s->reg_have = 0;
-            if (!ok) {
-                memcpy(x, xu, (size_t)m * sizeof(double));
-                break;
-            }
-        }
-        if (r) break;
-        if (fs <= s->ftol) break;
-        s->reg_fs = fs;
-        if (round == CONT_REG_ROUNDS ||
-            s->prob.regularise(x, x[n], s->ftol, CONT_REG_TIGHTEN, NULL, u) != 0) {
-            /* nothing to tighten at the first round: the plain Newton's own acceptance
-             * (kin_correct: ten times the tolerance where it stagnates)
-             * stands, as without a regularisation */
-            if (round == 0 && fs <= 10.0 * s->ftol) break;
-            ci_why(s, "the regularised equations were solved, the plain ones not: scaled "
-                   "residual %.3g > %.3g after %d smaller regularisations", fs, s->ftol, round);
-            s->fail_fs = fs;
-            r = -1;
-        } else {
-            s->reg_changed = 1;
-        }
-    }
-    if (nit) *nit = total;
-    if (r) memcpy(x, x0, (size_t)m * sizeof(double));
-    free(x0);
-    free(xu);
-    free(f);
-    return r;
+    return fs;
 }
 
-int ci_correct(cont_solver *s, double *x, const double *c, const double *xa, double sig,
-               int maxit, int strategy, int *nit, double *fnorm)
+/* The reusing corrector on the problem's anchored system (cont_anchor_fn)
+ * first, for cont_set_anchor_first: from the guess x, anchored at its
+ * multipliers, at level max(1, levels reached so far), then at the
+ * smaller weights of the next levels, each anchored at the best point so
+ * far, while a level converges but leaves the plain residual above ftol
+ * (as anchored_solve, with the engine's own Newton and factorisation
+ * instead of KINSOL's LU).  The result is kept only where the plain F
+ * meets ftol (and the anchored Newton's last step xtol), the acceptance
+ * test of every point.  Why (continuation/README.md, "Larger steps"): at
+ * the closed states of a sheet the fold rows carry self-stresses that
+ * exist only there, and the plain Newton converges only linearly from a
+ * long step (the residual is bilinear in the multiplier error along them
+ * and the position error); the anchor pins those multipliers.
+ * 0: x holds the point, the factors stay marked for ci_tangent_reuse;
+ * 1: x unchanged. */
+static int correct_reuse_anchored(cont_solver *s, double *x, const double *c, const double *xa,
+                                  double sig, int maxit, int *nit, double *fnorm)
 {
-    return regularised(s, kin_correct, x, c, xa, sig, maxit, strategy, nit, fnorm);
+    long n = s->n, m = s->m;
+    if (!s->anchor_first || !s->prob.anchor || s->corrector != CONT_CORRECTOR_REUSE) return 1;
+    double *u = malloc((size_t)m * sizeof(double)), *best = malloc((size_t)m * sizeof(double));
+    if (!u || !best) {
+        free(u);
+        free(best);
+        return 1;
+    }
+    memcpy(best, x, (size_t)m * sizeof(double));
+    long it0 = s->stp.newton_iters, npx = 0;
+    double fbest = INFINITY, fs = INFINITY;
+    int lev = s->reuse_level > 1 ? s->reuse_level : 1;
+    for (; lev <= ANCHOR_LAST; lev++) {
+        memcpy(u, best, (size_t)m * sizeof(double));
+        if (s->prob.anchor(u, u[n], lev, s->prob.user) != 0) break;
+        s->att_anch = 1;
+        int k = 0, r = ci_correct_reuse(s, u, c, xa, sig, maxit, 0, &k, NULL);
+        s->att_anch = 0;
+        s->prob.anchor(NULL, 0.0, 0, s->prob.user);
+        if (r != 0) break;   /* a smaller weight will not converge either */
+        if (ci_call_residual(s, u, u[n], s->w1) != 0) break;
+        fs = ci_fscaled_max(s, s->w1, n);
+        if (lev == 1) {
+            /* the bias first: a plain residual just above ftol at the
+             * first level is the anchor's own, removed by the proximal
+             * iterations, not a floor that needs the smaller weights
+             * (and with them the first-order predictor) for the rest of
+             * the run */
+            long ip = s->stp.newton_iters;
+            fs = reanchor(s, u, c, xa, sig, maxit, fs);
+            npx += s->stp.newton_iters - ip;
+        }
+        if (fs <= s->ftol) break;
+        if (!(fs < fbest)) break;
+        fbest = fs;
+        memcpy(best, u, (size_t)m * sizeof(double));
+    }
+    free(best);
+    s->polish_iters = (int)npx;
+    if (nit) *nit = (int)(s->stp.newton_iters - it0);
+    if (!(fs <= s->ftol)) {
+        s->rgen = -1;
+        free(u);
+        return 1;
+    }
+    s->reuse_level = lev < ANCHOR_LEVELS ? lev : ANCHOR_LEVELS;
+    if (fnorm) *fnorm = s->last_fnorm;
+    memcpy(x, u, (size_t)m * sizeof(double));
+    free(u);
+    return 0;
 }
 
 int ci_correct_step(cont_solver *s, double *x, const double *c, const double *xa, double sig,
                     int *nit, double *fnorm)
 {
+    s->polish_iters = 0;
     s->att_fsmin = INFINITY;
+    s->att_afs = INFINITY;
     s->fail_fs = NAN;   /* not a stale value where a later check rejects the point */
-    return regularised(s, step_newton, x, c, xa, sig, s->max_newton, s->strategy, nit, fnorm);
+    if (s->strategy == KIN_NONE) {
+        if (correct_reuse_anchored(s, x, c, xa, sig, s->max_newton, nit, fnorm) == 0) return 0;
+        s->att_track = 1;
+        int r = ci_correct_reuse(s, x, c, xa, sig, s->max_newton, 0, nit, fnorm);
+        s->att_track = 0;
+        if (r == 0) {
+            s->att_afs = INFINITY;   /* a point: not a failure of the corrector */
+            return 0;
+        }
+    }
+    s->att_track = 1;   /* ci_correct's plain KINSOL attempt, not its anchored retry */
+    int r = ci_correct(s, x, c, xa, sig, s->max_newton, s->strategy, nit, fnorm);
+    s->att_track = 0;
+    if (r == 0) s->att_afs = INFINITY;
+    return r;
 }
 
 /* The corrector of CONT_CORRECTOR_REUSE (cont.h, ALGORITHM): Newton's
@@ -373,6 +430,9 @@ int ci_correct_step(cont_solver *s, double *x, const double *c, const double *xa
  * gives up (the caller's line search takes over from the unchanged guess).
  * 0: converged, x holds the point; 1: not used (option) or not converged,
  * x unchanged (the caller runs ci_correct). */
+static int reuse_newton(cont_solver *s, double *x, const double *c, const double *xa,
+                        double sig, int maxit, int monotone, int have, int *nit, double *fnorm);
+
 int ci_correct_reuse(cont_solver *s, double *x, const double *c, const double *xa,
                      double sig, int maxit, int monotone, int *nit, double *fnorm)
 {
@@ -391,7 +451,7 @@ static int reuse_newton(cont_solver *s, double *x, const double *c, const double
     double *u = N_VGetArrayPointer(s->u), *b = N_VGetArrayPointer(s->vb);
     double *d = N_VGetArrayPointer(s->vx);
     memcpy(u, x, (size_t)m * sizeof(double));
-    double dlast = HUGE_VAL, fsprev = HUGE_VAL;
+    double dlast = HUGE_VAL, fsprev = HUGE_VAL, fsit = INFINITY;
     for (int k = 0;; k++) {
         if (ci_call_residual(s, u, u[n], b) != 0) return 1;
         double g = -sig;
@@ -399,6 +459,7 @@ static int reuse_newton(cont_solver *s, double *x, const double *c, const double
         b[n] = g;
         double fs = ci_fscaled_max(s, b, m);
         if (s->att_track) s->att_fsmin = fmin(s->att_fsmin, fs);
+        if (k > 0) fsit = fmin(fsit, fs);   /* after a Newton step: not the guess */
         if (monotone && fs > s->ftol && !(fs < fsprev)) return 1;
         fsprev = fs;
         if (k > 0 && fs <= s->ftol && dlast <= s->xtol * (1.0 + step_norm2(s, u))) {
@@ -409,7 +470,10 @@ static int reuse_newton(cont_solver *s, double *x, const double *c, const double
             memcpy(x, u, (size_t)m * sizeof(double));
             return 0;
         }
-        if (k == maxit) return 1;
+        if (k == maxit) {
+            if (s->att_anch) s->att_afs = fmin(s->att_afs, fsit);
+            return 1;
+        }
         if (ci_call_jacobian(s, u, u[n]) != 0) return 1;
         for (long i = 0; i < m; i++) b[i] = -b[i];
         /* the Newton step with the factors of an earlier iterate, refined,
@@ -491,13 +555,22 @@ int ci_solve_fixed(cont_solver *s, double *x, int *nit, double *fnorm)
     long n = s->n, m = s->m;
     for (long i = 0; i < m; i++) s->cw[i] = 0.0;
     s->cw[n] = 1.0;
-    /* the border c = e_p: only the p component of xa matters */
-    double *xa = malloc((size_t)m * sizeof(double));
-    if (!xa) return ci_fail(s, CONT_ENOMEM, "out of memory");
-    memcpy(xa, x, (size_t)m * sizeof(double));
-    int r = regularised(s, fixed_newton, x, s->cw, xa, 0.0, s->init_maxit, s->init_strategy,
-                        nit, fnorm);
-    free(xa);
+    /* anchor xa: only its p component matters, c = e_p */
+    double *anchor = malloc((size_t)m * sizeof(double));
+    if (!anchor) return ci_fail(s, CONT_ENOMEM, "out of memory");
+    memcpy(anchor, x, (size_t)m * sizeof(double));
+    /* Newton with the engine's own factorisation first (the symmetric
+     * block elimination where Jy is symmetric): from a good guess, such as
+     * the flat start's first point, it converges in a few iterations,
+     * while KINSOL's linear solver factorises the bordered matrix by
+     * unsymmetric LU, whose delayed pivots make it grow as about n^3 on
+     * the pose formulation (Miura 20x20: 46 s).  KINSOL with the start's
+     * strategy, from the unchanged guess, when it does not converge. */
+    int r = ci_correct_reuse(s, x, s->cw, anchor, 0.0, s->init_maxit,
+                             s->init_strategy != KIN_NONE, nit, fnorm) == 0
+                ? 0
+                : ci_correct(s, x, s->cw, anchor, 0.0, s->init_maxit, s->init_strategy, nit, fnorm);
+    free(anchor);
     return r;
 }
 

@@ -141,21 +141,35 @@ struct cont_solver {
     double kin_fs;           /* scaled max residual at KINSOL's last call */
     double fail_fs;          /* the same where the last corrector attempt
                               * failed (NAN: not known, or converged) */
+    double anchor_fs;        /* lowest plain residual of this attempt's
+                              * anchored solves (INFINITY: none) */
     double att_fsmin;        /* lowest scaled residual of the plain Newton
                               * iterates of the last step attempt, its
                               * predictor included (INFINITY: none) */
     int att_track;           /* a plain Newton of a step attempt is running */
-    double reg_fs;           /* plain residual of the last attempt whose
-                              * regularised equations converged but whose
-                              * plain residual stayed above ftol (NAN: none) */
-    int locate_reuse;        /* cont_set_locate_reuse */
-    int reg_have;            /* the regularised corrector's multiplier update:
-                              * start from the factors in s->bt */
-    int reg_changed;         /* the last corrector made the regularisation
-                              * smaller (its tangents belong to other equations) */
+    double att_afs;          /* lowest scaled residual of the Newton iterates of
+                              * the last step attempt's anchored reusing
+                              * corrector, where a level of it ended at its
+                              * iteration limit (INFINITY: none did) */
+    int att_anch;            /* that corrector of a step attempt is running */
+    struct {                 /* failed step attempts in a row, across steps,
+                              * whose anchored corrector stagnated at the
+                              * tolerance (cont_step.c, afloor_count) */
+        int n;
+        long pts;            /* points accepted since the first of them */
+        double lo, hi, p, ds;
+    } afl;
+    int anchor_first;        /* cont_set_anchor_first */
     int predictor;           /* cont_set_predictor: 1 or 2 */
     double *tprev, hprev;    /* the tangent of the point before the step base and
                               * the arclength between them (m; hprev 0: none) */
+    int reuse_level;         /* its anchor level that last succeeded; 0: none */
+    int polish_iters;        /* of the last ci_correct_step: its re-anchoring
+                              * iterations (not a measure of the step's difficulty) */
+    int anchor_level;        /* the anchor level (cont_anchor_fn) of the last
+                              * anchored solve that met the tolerance in this
+                              * run; 0: none yet.  Nonzero: the corrector tries
+                              * the anchored system first, from that level */
     char why[400];           /* reason the last attempt failed */
     char kin_msg[256];       /* last message from KINSOL */
     char msg[2048];          /* first error (with a diagnosis about 1000 characters) */
@@ -218,9 +232,8 @@ int ci_correct(cont_solver *s, double *x, const double *c, const double *xa,
                double sig, int maxit, int strategy, int *nit, double *fnorm);
 int ci_correct_reuse(cont_solver *s, double *x, const double *c, const double *xa,
                      double sig, int maxit, int monotone, int *nit, double *fnorm);
-/* one step's corrector: the reusing one, then KINSOL's (ci_correct); with
- * the problem's regularisation (cont_regularise_fn) both on F_delta, the
- * point accepted by the plain residual */
+/* one step's corrector: the anchored reusing one first (cont_set_anchor_first),
+ * the reusing one, then KINSOL's (ci_correct) */
 int ci_correct_step(cont_solver *s, double *x, const double *c, const double *xa, double sig,
                     int *nit, double *fnorm);
 int ci_tangent_reuse(cont_solver *s, const double *c, int *sign, double *logdet);

@@ -114,7 +114,7 @@ int ci_locate(cont_solver *s, int id, const cpt *b, const cpt *xe, double he,
             for (long i = 0; i < m; i++) tr->x[i] = lo->x[i] + w * (hi->x[i] - lo->x[i]);
             double fn;
             s->stp.nlocate++;
-            r = s->locate_reuse ? ci_correct_step(s, tr->x, c, b->x, h, &nit, &fn)
+            r = s->anchor_first ? ci_correct_step(s, tr->x, c, b->x, h, &nit, &fn)
                                 : ci_correct(s, tr->x, c, b->x, h, s->max_newton, s->strategy, &nit, &fn);
             if (r == 0) {
                 r = ci_eval_point(s, tr, c, +1, 0);
@@ -190,7 +190,7 @@ int ci_land(cont_solver *s, const cpt *b, const cpt *x1, double pb, cpt **res)
     memcpy(xa, q->x, (size_t)m * sizeof(double));
     int nit;
     double fn;
-    int r = s->locate_reuse ? ci_correct_step(s, q->x, c, xa, 0.0, &nit, &fn)
+    int r = s->anchor_first ? ci_correct_step(s, q->x, c, xa, 0.0, &nit, &fn)
                             : ci_correct(s, q->x, c, xa, 0.0, s->max_newton, s->strategy, &nit, &fn);
     free(c);
     free(xa);

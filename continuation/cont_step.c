@@ -183,11 +183,11 @@ int cont_start_tangent(cont_solver *s, const double *y0, double p0,
     double fs = ci_fscaled_max(s, s->w1, n);
     fn = s->last_fnorm;
     if (fs > s->ftol) {
-        double *xa = malloc((size_t)m * sizeof(double));
-        if (!xa) return ci_fail(s, CONT_ENOMEM, "out of memory");
-        memcpy(xa, b->x, (size_t)m * sizeof(double));
-        r = ci_correct(s, b->x, s->cw, xa, 0.0, s->init_maxit, s->init_strategy, &nit, &fn);
-        free(xa);
+        double *anchor = malloc((size_t)m * sizeof(double));
+        if (!anchor) return ci_fail(s, CONT_ENOMEM, "out of memory");
+        memcpy(anchor, b->x, (size_t)m * sizeof(double));
+        r = ci_correct(s, b->x, s->cw, anchor, 0.0, s->init_maxit, s->init_strategy, &nit, &fn);
+        free(anchor);
         if (r != 0) {
             ci_flush_stats(s, t0, 0);
             return ci_fail(s, CONT_ENUMERIC, "cont_start_tangent: the start point (residual "
@@ -280,34 +280,33 @@ static int special_points(cont_solver *s, const cpt *b, const cpt *xe, double he
 /* How the trailing failed attempts of a step (from some step length down
  * to ds_min, at least TAIL_MIN_ATTEMPTS of them) ended, when all alike:
  *
- * - a residual floor: each stagnated with its scaled residual within
- *   FLOOR_FACTOR times the Newton tolerance.  Newton stagnates at the
- *   same residual however short the step is (the predictor is the last
- *   point): the equations cannot be solved more accurately there;
+ * - a residual floor: each stagnated with its scaled residual (the lowest
+ *   reached, anchored solves included) within FLOOR_FACTOR times the
+ *   Newton tolerance.  Newton stagnates at the same residual however
+ *   short the step is (the predictor is the last point): the equations
+ *   cannot be solved more accurately there (e.g. nearly dependent
+ *   constraint rows whose share of the residual a regularised Newton
+ *   step does not remove);
  * - a divergence: each came within DIVERGE_NEAR times the tolerance (the
- *   predictor or a Newton iterate) and then ended more than
+ *   predictor or a plain Newton iterate) and then ended more than
  *   DIVERGE_GROWTH times higher, above the floor's range: Newton moves
- *   away from the branch however short the step is;
- * - the problem's regularisation (cont_regularise_fn): each solved the
- *   regularised equations, but the plain residual stayed above the
- *   tolerance and the problem had no smaller regularisation to offer.
+ *   away from the branch however short the step is (continuation/
+ *   README.md, "A corrector that diverges next to the tolerance").
  *
- * None is a turning point or a branch point of the path; the first
+ * Neither is a turning point or a branch point of the path; the first
  * attempts of a step (long steps) may fail otherwise. */
 #define FLOOR_FACTOR 10.0
 #define DIVERGE_NEAR 1e4
 #define DIVERGE_GROWTH 100.0
 #define TAIL_MIN_ATTEMPTS 3
-enum { TAIL_NONE, TAIL_FLOOR, TAIL_DIVERGE, TAIL_REG };
+enum { TAIL_NONE, TAIL_FLOOR, TAIL_DIVERGE };
 typedef struct { int kind, n; double lo, hi, end, ds; } tail_watch;
 
 static void tail_count(const cont_solver *s, tail_watch *tw, double ds)
 {
     double f = s->fail_fs, lo = f;
     int kind = TAIL_NONE;
-    if (f == s->reg_fs) {
-        kind = TAIL_REG;
-    } else if (f <= FLOOR_FACTOR * s->ftol) {
+    if (f <= FLOOR_FACTOR * s->ftol) {
         kind = TAIL_FLOOR;
     } else if (s->att_fsmin <= DIVERGE_NEAR * s->ftol && f > DIVERGE_GROWTH * s->att_fsmin) {
         kind = TAIL_DIVERGE;
@@ -332,24 +331,65 @@ static void tail_note(const cont_solver *s, const tail_watch *tw, double tp, cha
         snprintf(buf, len, "; diagnosis: the last %d attempts (steps %.3g down to ds_min) all "
                  "stagnated at a scaled residual of %.3g to %.3g, just above the Newton "
                  "tolerance %.3g, however short the step: a residual floor of the equations "
-                 "at this point, not a turning point (dp/ds = %.3g at the last point); a "
-                 "Newton tolerance above %.3g gets past this point (the floor may grow "
-                 "further on)", tw->n, tw->ds, tw->lo, tw->hi, s->ftol, tp, tw->hi);
-    else if (tw->kind == TAIL_REG)
-        snprintf(buf, len, "; diagnosis: the last %d attempts (steps %.3g down to ds_min) each "
-                 "solved the regularised equations, but their plain residual stayed at %.3g to "
-                 "%.3g (tolerance %.3g) and the problem had no smaller regularisation to "
-                 "offer: the plain equations are too ill-conditioned here to be met to the "
-                 "tolerance, not a turning point (dp/ds = %.3g); a Newton tolerance above "
-                 "%.3g gets past this point", tw->n, tw->ds, tw->lo, tw->hi, s->ftol, tp,
-                 tw->hi);
+                 "at this point (e.g. nearly dependent constraint rows, whose share of the "
+                 "residual a regularised Newton step does not remove), not a turning point "
+                 "(dp/ds = %.3g at the last point); a Newton tolerance above %.3g gets past "
+                 "this point (the floor may grow further on)", tw->n, tw->ds, tw->lo, tw->hi,
+                 s->ftol, tp, tw->hi);
     else
         snprintf(buf, len, "; diagnosis: the last %d attempts (steps %.3g down to ds_min) each "
                  "came to a scaled residual of %.3g to %.3g (tolerance %.3g), then diverged "
                  "to %.3g or more: the Newton step moves away from the branch here (nearly "
-                 "singular equations, or a Jacobian that does not match the residual), not a "
-                 "turning point (dp/ds = %.3g); the points so far meet the tolerance",
-                 tw->n, tw->ds, tw->lo, tw->hi, s->ftol, tw->end, tp);
+                 "singular equations whose regularised step amplifies an error, or a "
+                 "Jacobian that does not match the residual), not a turning point (dp/ds = "
+                 "%.3g); the points so far meet the tolerance; where nearly dependent "
+                 "constraint rows cause it, equations without them (e.g. a penalty) may get "
+                 "past such a point (continuation/README.md, \"A corrector that diverges "
+                 "next to the tolerance\")", tw->n, tw->ds, tw->lo, tw->hi, s->ftol, tw->end,
+                 tp);
+}
+
+/* The failed attempts in a row, across steps, whose anchored reusing
+ * corrector ended at its iteration limit with its residual (the lowest of
+ * its iterates) within FLOOR_FACTOR times the tolerance: a floor of the
+ * anchored Newton, which the attempts of a step at ds_min alone do not
+ * show when accepted points come in between (an iteration that happens to
+ * end below the tolerance; the step then grows and the next attempt fails
+ * again, continuation/README.md, "The 12x12 load path").  Any other
+ * failure ends the run of them. */
+static void afloor_count(cont_solver *s, double ds, double p)
+{
+    double f = s->att_afs;
+    if (!(f <= FLOOR_FACTOR * s->ftol)) {
+        s->afl.n = 0;
+        return;
+    }
+    if (s->afl.n == 0) {
+        s->afl.lo = s->afl.hi = f;
+        s->afl.p = p;
+        s->afl.ds = ds;
+        s->afl.pts = 0;
+    }
+    s->afl.n++;
+    s->afl.lo = fmin(s->afl.lo, f);
+    s->afl.hi = fmax(s->afl.hi, f);
+}
+
+/* The diagnosis of a stop at ds_min after such attempts, where tail_note
+ * has none (else ""). */
+static void afloor_note(const cont_solver *s, const tail_watch *tw, double tp, char *buf,
+                        size_t len)
+{
+    if (tw->n >= TAIL_MIN_ATTEMPTS || s->afl.n < TAIL_MIN_ATTEMPTS) return;
+    snprintf(buf, len, "; diagnosis: the last %d failed attempts (from p = %.6g, steps %.3g "
+             "down to ds_min, %ld points accepted between them) each ended with the anchored "
+             "corrector at its iteration limit, stagnating at a scaled residual of %.3g to "
+             "%.3g (tolerance %.3g) however short the step: a residual floor (nearly dependent "
+             "constraint rows), not a turning point (dp/ds = %.3g); the plain Newton "
+             "failed too; a Newton tolerance above %.3g or equations without the dependent "
+             "rows (e.g. a penalty) may get further (continuation/README.md, \"The 12x12 load "
+             "path\")", s->afl.n, s->afl.p, s->afl.ds, s->afl.pts, s->afl.lo, s->afl.hi, s->ftol,
+             tp, s->afl.hi);
 }
 
 /* Compute one step from s->base and queue the resulting points. */
@@ -378,6 +418,7 @@ static int compute_step(cont_solver *s)
             s->stop_reason = CONT_STOP_DSMIN;
             char fl[700];
             tail_note(s, &tw, b->t[n], fl, sizeof fl);
+            if (!fl[0]) afloor_note(s, &tw, b->t[n], fl, sizeof fl);
             return ci_fail(s, CONT_FAIL, "continuation stopped at step %ld: the step size "
                         "%.3g fell below ds_min = %.3g at p = %.12g (last accepted point, "
                         "s = %.6g, residual norm %.3g); last attempt: %s%s",
@@ -385,9 +426,12 @@ static int compute_step(cont_solver *s)
                         s->why[0] ? s->why : "no reason recorded", fl);
         }
         for (long i = 0; i < m; i++) x1->x[i] = b->x[i] + ds * b->t[i];
-        if (s->predictor == 2 && s->hprev > 0) {
+        if (s->predictor == 2 && s->hprev > 0 && s->anchor_level == 0 && s->reuse_level <= 1) {
             /* second order: the curvature from the tangents' change over
-             * the last step, x(s) = x + s t + s^2/2 (t - t_prev) / h_prev */
+             * the last step, x(s) = x + s t + s^2/2 (t - t_prev) / h_prev;
+             * not once a residual floor was met (an anchored level > 1):
+             * the states there are fixed only to the floor's accuracy, and
+             * so are the tangents' differences */
             double q = 0.5 * ds * ds / s->hprev;
             for (long i = 0; i < m; i++) x1->x[i] += q * (b->t[i] - s->tprev[i]);
         }
@@ -402,10 +446,7 @@ static int compute_step(cont_solver *s)
             }
             if (r == 0) {
                 double ca = ci_dotw(s, x1->t, b->t);
-                /* not where the corrector made the problem's regularisation
-                 * smaller: the base point's tangent is one of the equations
-                 * before */
-                if (ca < cosmax && !s->reg_changed) {
+                if (ca < cosmax) {
                     ci_why(s, "the tangent turned by %.3g rad (> max_angle %.3g) over a step "
                         "of %.3g", acos(fmax(-1.0, fmin(1.0, ca))), s->max_angle, ds);
                     r = -1;
@@ -414,15 +455,17 @@ static int compute_step(cont_solver *s)
         }
         if (r == 0) break;
         tail_count(s, &tw, ds);
+        afloor_count(s, ds, b->x[n]);
         s->stp.retries++;
         ds *= s->shrink;
     }
+    if (s->afl.n > 0) s->afl.pts++;
     x1->pub.newton_iters = nit;
     x1->pub.resnorm = fn;
     x1->pub.ds = ds;
     x1->h = ds;
     s->last.ds = ds;
-    s->ds = nit <= s->fast_iters ? fmin(ds * s->grow, s->ds_max) : ds;
+    s->ds = nit - s->polish_iters <= s->fast_iters ? fmin(ds * s->grow, s->ds_max) : ds;
 
     cpt *xe = x1;
     int term = 0, reason = CONT_STOP_NONE;

@@ -134,7 +134,9 @@ fi
 # times as far as the zigzag ones (rigid origami, 1e-4), every zigzag fold
 # by the same angle (1e-4: the corner load breaks the mode's symmetry at
 # higher order only), the tip deflection linear in the load (1e-3) between
-# the first point (p <= 0.05) and p = 0.2; at least 4 points
+# the first point (p <= 0.05) and p = 0.2; at least 4 points (5 since the
+# corrector solves the anchored system first after a residual floor, 37
+# before)
 gen_flat "$tmp/mL.cfg" miura --load=1
 "$bin" run "$tmp/mL.cfg" --set analysis.end=0.2 --set output.shapes=0 -q -o "$tmp/mL" >"$tmp/mL.out" 2>&1
 st=$?

@@ -281,7 +281,6 @@ static void check_agree(const agree_case *c, const char *sdir)
     cont_solver *fs = NULL, *ps = NULL;
     assert_int_equal(sf_equil_create_solver(&fq, &fs), CONT_OK);
     assert_int_equal(sf_equil_create_solver(&pq, &ps), CONT_OK);
-    assert_int_equal(sf_equil_use_dual(&pq), SF_OK);   /* the path's corrector (equilibrium.h) */
     cont_set_newton(fs, 1e-14, 20, 0);
     cont_set_newton(ps, 1e-14, 20, 0);
     cont_set_step(fs, step, 1e-6, 0.2);

@@ -12,102 +12,44 @@
 #include "equilibrium_poses.h"
 #include "study.h"
 
-#define REG_EPS 1e-10     /* the start's regularisation, Jacobian only */
-/* The path's regularisation (equilibrium.h): the weight delta_r of each
- * row is at most the Newton tolerance and the start's eps at the step's
- * base point (sf_equil_reg_eps: REG_EPS, or on a degenerate ray of the
- * flat state relative to the squared motion; a constraint direction of
- * singular value sigma is resolved where sigma^2 >> delta), and is
- * DUAL_TIGHTEN times smaller for a row whose
- * closure still misses DUAL_SHARE ftol after the multiplier update; it
- * stays so for the rest of the path; no delta below DUAL_MIN, where
- * -delta is lost against the rounding of the factorisation (entries of
- * order one in the scaled KKT matrix, unit round-off 1.1e-16) */
-#define DUAL_SHARE 0.5
-#define DUAL_TIGHTEN 0.25
-#define DUAL_MIN 1e-16
+#define REG_EPS 1e-10
 
 static void sf_equil_scales(sf_equil *q);
 
 double sf_equil_reg_eps(const sf_equil *q, const double *y)
 {
+    if (q->eps_anchor > 0) return q->eps_anchor;   /* anchored: its weight */
     if (!(q->reg_rel > 0)) return REG_EPS;
     double a = 0.0;
     for (int j = 0; j < q->m->nq; j++) a = fmax(a, fabs(y[j]));
     return fmin(REG_EPS, fmax(q->reg_min, q->reg_rel * a * a));
 }
 
-double sf_equil_reg_row(const sf_equil *q, const double *y, int r, double eps)
+int sf_equil_anchor(const double *y, double p, int on, void *user)
 {
-    (void)y;
-    return q->dual_on ? q->dual[r] : eps;
-}
-
-int sf_equil_use_dual(sf_equil *q)
-{
-    q->dual_on = 0;
-    if (q->ncon == 0) return SF_OK;
-    free(q->dual);
-    q->dual = malloc(sizeof(double) * 2 * (size_t)q->ncon);
-    if (!q->dual) return SF_ENOMEM;
-    q->lam_a = q->dual + q->ncon;
-    for (int r = 0; r < q->ncon; r++) {
-        q->dual[r] = REG_EPS;
-        q->lam_a[r] = 0.0;
-    }
-    q->dual_on = 1;
-    return SF_OK;
-}
-
-void sf_equil_dual_rows(const sf_equil *q, const double *y, double *F)
-{
-    if (!q->dual_on || q->dual_off) return;
-    for (int r = 0; r < q->ncon; r++) {
-        int i = q->nq + r;
-        F[i] -= q->dual[r] * q->yscale[i] / q->fscale[i] * (y[i] - q->lam_a[r]);
-    }
-}
-
-int sf_equil_regularise(const double *y, double p, double ftol, int action, double *F,
-                        void *user)
-{
+    (void)p;
     sf_equil *q = user;
-    if (action == CONT_REG_PLAIN) {
-        q->dual_off = 1;
-        int r = sf_equil_residual(y, p, F, q);
-        q->dual_off = 0;
-        return r;
-    }
-    if (!q->dual_on) return action == CONT_REG_TIGHTEN;
-    if (action == CONT_REG_ANCHOR) {
-        memcpy(q->lam_a, y + q->nq, sizeof(double) * (size_t)q->ncon);
-        return 0;
-    }
-    if (action == CONT_REG_SET) {   /* anchored at zero, the weights as the path left them */
-        memset(q->lam_a, 0, sizeof(double) * (size_t)q->ncon);
-        double d0 = fmin(ftol, sf_equil_reg_eps(q, y));
-        for (int r = 0; r < q->ncon; r++) q->dual[r] = fmin(q->dual[r], d0);
-        return 0;
-    }
-    /* the rows whose plain residual misses DUAL_SHARE ftol: DUAL_TIGHTEN
-     * times smaller (the constraint directions the penalty does not
-     * resolve run through them); the anchor stays (the method of
-     * multipliers goes on from the point's multipliers) */
-    double *g = malloc(sizeof(double) * (size_t)q->n);
-    if (!g) return 1;
-    q->dual_off = 1;
-    int bad = sf_equil_residual(y, p, g, q);
-    q->dual_off = 0;
-    int smaller = 0;
-    for (int r = 0; r < q->ncon && !bad; r++) {
+    q->eps_anchor = 0.0;
+    if (!on || q->ncon == 0) return 0;
+    if (!q->lam_anchor && !(q->lam_anchor = malloc(sizeof(double) * (size_t)q->ncon))) return 1;
+    memcpy(q->lam_anchor, y + q->nq, sizeof(double) * (size_t)q->ncon);
+    q->eps_anchor = sf_equil_reg_eps(q, y);
+    for (int k = 1; k < on; k++) q->eps_anchor *= 0.1;   /* cont.h: the levels */
+    return 0;
+}
+
+double sf_equil_row_eps(const sf_equil *q, double eps, int r)
+{
+    return q->eps_anchor > 0 && q->anchor_w ? eps * q->anchor_w[r] : eps;
+}
+
+void sf_equil_anchor_rows(const sf_equil *q, const double *y, double *F)
+{
+    if (!(q->eps_anchor > 0)) return;
+    for (int r = 0; r < q->ncon; r++) {
         int i = q->nq + r;
-        if (!(fabs(g[i] * q->fscale[i]) > DUAL_SHARE * ftol)) continue;
-        q->dual[r] *= DUAL_TIGHTEN;
-        if (q->dual[r] < DUAL_MIN) bad = 1;
-        smaller = 1;
+        F[i] -= sf_equil_row_eps(q, q->eps_anchor, r) * q->yscale[i] / q->fscale[i] * (y[i] - q->lam_anchor[r]);
     }
-    free(g);
-    return bad || !smaller;
 }
 
 int sf_equil_init(sf_equil *q, const sf_model *m, int param, int group, int probe,
@@ -225,7 +167,8 @@ void sf_equil_use_penalty(sf_equil *q, double lR, double ld)
 void sf_equil_free(sf_equil *q)
 {
     sf_peq_free(q);
-    free(q->dual);
+    free(q->lam_anchor);
+    free(q->anchor_w);
     sf_energy_free(&q->e);
     sf_params_free(&q->par);
     sf_kin_free(&q->k);
@@ -356,7 +299,7 @@ int sf_equil_residual(const double *y, double p, double *F, void *user)
         const double *d = q->dx + q->rowc[r] * nq;
         for (int j = 0; j < nq; j++) F[j] += lam[row] * d[j];
     }
-    sf_equil_dual_rows(q, y, F);
+    sf_equil_anchor_rows(q, y, F);
     return finite_all(F, q->n) ? 0 : 1;
 }
 
@@ -405,8 +348,7 @@ int sf_equil_jacobian(const double *y, double p, SUNMatrix Jy, double *Fp, void 
     for (int r = 0; r < q->ncon; r++) {
         /* regularisation of the multiplier block: -eps in the solver's
          * scaled system (fscale A / yscale), so -eps yscale / fscale here */
-        A[(size_t)(nq + r) * ld + nq + r] =
-            -sf_equil_reg_row(q, y, r, eps) * q->yscale[nq + r] / q->fscale[nq + r];
+        A[(size_t)(nq + r) * ld + nq + r] = -sf_equil_row_eps(q, eps, r) * q->yscale[nq + r] / q->fscale[nq + r];
     }
     memset(Fp, 0, sizeof(double) * n);
     memcpy(Fp, q->gp, sizeof(double) * nq);
@@ -481,7 +423,7 @@ int sf_equil_create_solver(sf_equil *q, cont_solver **out)
     prob.jac_matrix = CONT_MATRIX_DENSE;
     prob.yscale = q->yscale;
     prob.fscale = q->fscale;
-    prob.regularise = sf_equil_regularise;
+    prob.anchor = sf_equil_anchor;
     prob.user = q;
     if (q->sparse) {
         prob.jacobian = sf_equil_jacobian_sparse;

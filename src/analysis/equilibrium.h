@@ -7,12 +7,11 @@
  * parameter is a displacement.
  *   F = [ grad Pi(q; p) + J^T lambda ;  g(q; p) ]
  *   dF/dy = [ H + sum_c lambda_c hess g_c ,  J^T ;  J , -eps D ]
- * The -eps D block (D the row scales) keeps the Newton matrix regular
- * where loop rows are redundant (at the flat state the rotation about the
- * normal and the in-plane translation of every vertex loop are of second
- * order in the fold angles; K = 1 folds have more rows than unknowns).
- * On the path it is the dual regularisation below, in the residual too;
- * at the start (flat start) a fixed eps in the Jacobian alone.
+ * The -eps D block (eps = 1e-10, D the row scales) only enters the
+ * Jacobian, never the residual, so solutions satisfy g = 0 exactly: it
+ * keeps the Newton matrix regular where loop rows are redundant (at the
+ * flat state the rotation about the normal and the in-plane translation
+ * of every vertex loop are of second order in the fold angles).
  *
  * Parameter p: "load" (load factor; stage k of the study ramps over
  * p in [k-1, k]), "actuation" (factor on the rest angles of the driven
@@ -49,11 +48,10 @@ typedef struct sf_equil {
     double *rowval;
     int disp_row;         /* index among the support rows, -1 if none */
     double kref, lref;    /* reference stiffness [J] and length [m] */
-    double reg_rel, reg_min;  /* sf_equil_reg_eps at the start; 0: the fixed eps */
-    int dual_on;          /* sf_equil_use_dual: the path's dual regularisation */
-    int dual_off;         /* the plain residual is being evaluated */
-    double *dual;         /* its delta_r per constraint row (scaled system), ncon */
-    double *lam_a;        /* its multipliers of the anchor (0, or the last point's), ncon */
+    double reg_rel, reg_min;  /* sf_equil_reg_eps; 0: the fixed eps */
+    double *lam_anchor;   /* sf_equil_anchor: multipliers of the anchor, ncon */
+    double eps_anchor;    /* its eps; 0: no anchor (the plain residual) */
+    double *anchor_w;     /* NULL, or a factor on eps_anchor per constraint row (ncon) */
     double *yscale, *fscale;
     /* scratch */
     double *grad, *H, *gp, *g, *J, *dx;
@@ -128,8 +126,7 @@ int sf_equil_start_off_flat(sf_equil *q, double p1, double tol, double *y, sf_er
 void sf_equil_set_param(sf_equil *q, double p);
 
 /* The regularisation eps of the multiplier block (in the scaled system)
- * at the state y before the path (below for the path): 1e-10, or with
- * q->reg_rel > 0, reg_rel a^2 with a the
+ * at the state y: 1e-10, or with q->reg_rel > 0, reg_rel a^2 with a the
  * largest fold coordinate (the first m->nq values of y), between
  * q->reg_min and 1e-10.  Near the flat state the gradients of the
  * second-order loop rows are of the order of a, and a fixed eps swamps
@@ -138,30 +135,21 @@ void sf_equil_set_param(sf_equil *q, double p);
  * ray"). */
 double sf_equil_reg_eps(const sf_equil *q, const double *y);
 
-/* The path's regularisation (docs/formulations.md, "Exact closure along
- * the path"), switched on by sf_equil_use_dual once the path has its
- * first point: the method of multipliers in KKT form.  Constraint row r
- * of the residual becomes g_r - delta_r d_r (lambda_r - lambda_a,r) and
- * the Jacobian's multiplier block -diag(delta_r d_r) (d_r the row's
- * scaling in the Newton system), so the Jacobian is the residual's exact
- * one whatever the rows' dependence.  The corrector (cont_regularise_fn,
- * sf_equil_regularise) solves it anchored at lambda_a = 0 (a penalty
- * 1 / delta), then anchored at the point's multipliers (one multiplier
- * update, which removes the penalty's bias g = delta d lambda where the
- * penalty resolves the constraints), and accepts the point by the plain
- * residual; delta_r starts at 1e-10 and is 4 times smaller for a row
- * whose closure still misses half the tolerance, for the rest of the
- * path.  Before (the flat start) and in solvers that do not call it, the
- * multiplier block carries sf_equil_reg_eps in the Jacobian alone.
- * SF_OK or SF_ENOMEM. */
-int sf_equil_use_dual(sf_equil *q);
-void sf_equil_dual_rows(const sf_equil *q, const double *y, double *F);
-/* The multiplier block's regularisation of constraint row r: delta_r on
- * the path, else eps (sf_equil_reg_eps). */
-double sf_equil_reg_row(const sf_equil *q, const double *y, int r, double eps);
-int sf_equil_regularise(const double *y, double p, double ftol, int action, double *F,
-                        void *user);
+/* The proximal anchor of the continuation engine (cont_anchor_fn): with
+ * on = 1 the residual's constraint rows become g - eps D (lambda -
+ * lambda_a), lambda_a the multipliers of y and eps = sf_equil_reg_eps(y),
+ * which makes the Jacobian's regularisation -eps D exact; on = 0 restores
+ * g.  For where Newton stagnates at a residual floor because nearly
+ * dependent rows (singular values below sqrt(eps)) keep part of g
+ * (docs/formulations.md, "Gravity and a tip load").  0 or 1 (no memory). */
+int sf_equil_anchor(const double *y, double p, int on, void *user);
 
+/* The weight of constraint row r in the multiplier block: eps, times
+ * q->anchor_w[r] while an anchor with row factors is on. */
+double sf_equil_row_eps(const sf_equil *q, double eps, int r);
+
+/* Adds the anchor's term to the constraint rows of F (nothing if off). */
+void sf_equil_anchor_rows(const sf_equil *q, const double *y, double *F);
 /* Callbacks for cont_problem (user = sf_equil *). */
 int sf_equil_residual(const double *y, double p, double *F, void *user);
 int sf_equil_jacobian(const double *y, double p, SUNMatrix Jy, double *Fp, void *user);

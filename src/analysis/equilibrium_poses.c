@@ -192,10 +192,9 @@ static double assemble(sf_equil *q, const double *y, double p, double *F, int ja
     }
     if (Fp && q->disp_row >= 0) Fp[nx + q->nloop + q->disp_row] = -1.0;
     if (jac) {
-        double eps = sf_equil_reg_eps(q, y);   /* the start's */
+        double eps = sf_equil_reg_eps(q, y);   /* 1e-10 unless a flat start set reg_rel */
         for (int r = 0; r < q->ncon; r++)
-            sf_trip_add(&z->T, nx + r, nx + r,
-                        -sf_equil_reg_row(q, y, r, eps) * q->yscale[nx + r] / q->fscale[nx + r]);
+            sf_trip_add(&z->T, nx + r, nx + r, -sf_equil_row_eps(q, eps, r) * q->yscale[nx + r] / q->fscale[nx + r]);
     }
     return Pi;
 }
@@ -367,7 +366,7 @@ int sf_peq_residual(sf_equil *q, const double *y, double p, double *F)
     if (!finite_all(y, q->n) || !isfinite(p) || !rotations_ok(q, y)) return 1;
     q->nres++;
     assemble(q, y, p, F, 0, NULL);
-    sf_equil_dual_rows(q, y, F);
+    sf_equil_anchor_rows(q, y, F);
     return finite_all(F, q->n) ? 0 : 1;
 }
 
@@ -557,7 +556,7 @@ int sf_peq_create_solver(sf_equil *q, cont_solver **out)
     prob.jac_nnz = q->pz->T.nnz;
     prob.yscale = q->yscale;
     prob.fscale = q->fscale;
-    prob.regularise = sf_equil_regularise;
+    prob.anchor = sf_equil_anchor;
     /* the Jacobian is the KKT matrix [H A^T; A -eps D] of a potential
      * (bending, dead loads, gravity) with constraint rows and their
      * transposes, H assembled symmetric: the engine factorises its LDL^T

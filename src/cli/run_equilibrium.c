@@ -87,12 +87,6 @@ static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, d
     if (!(r->cpu_path0 > 0)) r->cpu_path0 = run_cpu_seconds();
     /* stability from the corrector's own LDL^T at each point (stability.h) */
     if (r->do_stab && sf_stab_wants_inertia(&r->stab, eq)) cont_set_point_inertia(cs, 1);
-    /* the path from its first point on: the method of multipliers
-     * (equilibrium.h, sf_equil_use_dual; the start, flat or not, before) */
-    if (sf_equil_use_dual(eq)) {
-        free(y0);
-        return sf_fail(err, SF_ENOMEM, "out of memory");
-    }
     int rc = cont_run(cs);
     while (staged && rc == CONT_DONE && !r->failed && r->seg_end != end &&
            cont_stop_reason(cs) == (dir > 0 ? CONT_STOP_PMAX : CONT_STOP_PMIN)) {
@@ -120,9 +114,8 @@ static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, d
         const char *m = cont_errmsg(cs);
         return sf_fail(err, SF_ENUMERIC, "%s: path stopped after %ld points: %s%s", s->path, r->npoints,
                        m, strstr(m, "then diverged") ? " (solver.constraints)"
-                          : strstr(m, "residual floor") ? " (solver.tolerance)"
-                          : strstr(m, "no smaller regularisation") ? " (solver.tolerance, "
-                                                                    "solver.constraints)" : "");
+                          : strstr(m, "e.g. a penalty") ? " (solver.tolerance, solver.constraints)"
+                          : strstr(m, "residual floor") ? " (solver.tolerance)" : "");
     }
     if (r->flat_sw && flat_switch(r)) return err->code;
     return sf_bif_switch(&r->bif, cs, err);
@@ -376,10 +369,11 @@ int run_equilibrium(run_ctx *r)
     double lo = fmin(start, end), hi = fmax(start, end);
     if (strcmp(step_norm, "rms") == 0) {
         /* steps in the RMS change of the fold coordinates (and p): the
-         * same number of points on a small and a large sheet
-         * (continuation/README.md, "Larger steps") */
+         * same number of points on a small and a large sheet; such steps
+         * need the anchored corrector (continuation/README.md, "Larger
+         * steps") */
         cont_set_arc_scale(cs, 1.0 / sqrt((double)sc->model.nq));   /* the weighted ones */
-        cont_set_locate_reuse(cs, 1);
+        cont_set_anchor_first(cs, 1);
         cont_set_predictor(cs, 2);
     }
     cont_set_step(cs, step, min_step, max_step);

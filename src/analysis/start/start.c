@@ -101,8 +101,9 @@ static int against_assignment(const sf_model *m, const double *y)
     return n;
 }
 
-/* The rows' compliances in the method of multipliers (c->k.w, a
- * factor on each row's weight in the equilibrium problem).  The rotation rows of the loops are those of rigid
+/* The rows' compliances in the method of multipliers (q->anchor_w, a
+ * factor on each row's weight in the equilibrium problem; freed by
+ * sf_start_flat).  The rotation rows of the loops are those of rigid
  * origami (the rotation part of a smooth fold's map is the rigid one,
  * MODEL.md 3), independent of band widths and shape modes; the
  * translation rows are the bands' own.  The minimisation runs in two
@@ -126,8 +127,11 @@ static int row_weights(start_ctx *c, sf_error *err)
 {
     sf_equil *q = c->q;
     const sf_model *m = q->m;
+    free(q->anchor_w);
+    q->anchor_w = malloc(sizeof(double) * ((size_t)q->ncon + 1));
     c->rot = calloc((size_t)q->ncon + 1, 1);
-    if (!c->rot) return sf_fail(err, SF_ENOMEM, "out of memory");
+    if (!q->anchor_w || !c->rot) return sf_fail(err, SF_ENOMEM, "out of memory");
+    for (int r = 0; r < q->ncon; r++) q->anchor_w[r] = 1.0;
     if (q->pz) {
         for (int k = 0; k < 6 * m->nfolds; k++) {
             int r = sf_peq_fold_row(q, k);   /* the constraint row of fold row k, or -1 */
@@ -143,7 +147,7 @@ static void row_phase(start_ctx *c, int phase)
 {
     sf_equil *q = c->q;
     double stiff = q->pz ? ROT_STIFF_POSES : ROT_STIFF_FOLDS;
-    for (int r = 0; r < q->ncon; r++) c->k.w[r] = phase == 1 && c->rot[r] ? 1.0 / stiff : 1.0;
+    for (int r = 0; r < q->ncon; r++) q->anchor_w[r] = phase == 1 && c->rot[r] ? 1.0 / stiff : 1.0;
 }
 
 /* The first-order response to a unit amount of the control at the flat
@@ -159,11 +163,11 @@ static int unit_response(start_ctx *c, const fs_control *ctl, double *amp, doubl
     double *b = calloc((size_t)n + 1, sizeof(double));
     double *a = calloc((size_t)n + 1, sizeof(double));
     if (!b || !a) { free(b); free(a); return sf_fail(err, SF_ENOMEM, "out of memory"); }
-    memset(q->lam_a, 0, sizeof(double) * (size_t)q->ncon);
+    if (!q->lam_anchor) q->lam_anchor = calloc((size_t)q->ncon + 1, sizeof(double));
+    memset(q->lam_anchor, 0, sizeof(double) * (size_t)q->ncon);
     /* the rows with a gradient at the flat state enforced (the others have
      * none there): the same response in either formulation */
-    for (int r = 0; r < q->ncon; r++) k->w[r] = 1.0;
-    fs_prox(k, 1e-10);
+    q->eps_anchor = 1e-10;
     int rc = fs_kkt_eval(k, c->y0, c->p0, err);
     if (!rc) rc = fs_kkt_factor(k, 0.0, err);
     if (!rc && ctl->kind == FS_FIXED) {
@@ -183,7 +187,7 @@ static int unit_response(start_ctx *c, const fs_control *ctl, double *amp, doubl
             rc = SF_ENUMERIC;
         }
     }
-    fs_prox_off(k);
+    q->eps_anchor = 0.0;
     *amp = 0.0;
     for (int f = 0; !rc && f < q->m->nfolds; f++) {
         int i = q->m->qoff[f];
@@ -350,8 +354,12 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
     if (!rc && (!yb || !best || !pin || !c.row)) rc = sf_fail(err, SF_ENOMEM, "out of memory");
     if (!rc) rc = row_weights(&c, err);
     /* the driving's control: dF/dp at the flat state */
+    if (getenv("FS_ROTW") && !q->anchor_w) {
+        q->anchor_w = malloc(sizeof(double) * ((size_t)q->ncon + 1));
+        for (int r = 0; r < q->ncon; r++) q->anchor_w[r] = (r < q->nloop && r % 6 < 3) ? atof(getenv("FS_ROTW")) : 1.0;
+    }
     if (!rc) {
-        fs_prox_off(&c.k);
+        q->eps_anchor = 0.0;
         rc = fs_kkt_eval(&c.k, y0, p0, err);
     }
     double rowmax = 0.0, r0 = 0.0;
@@ -476,6 +484,9 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
     }
 done:
     info->seconds = now() - t0;
+    q->eps_anchor = 0.0;
+    free(q->anchor_w);
+    q->anchor_w = NULL;
     fs_kkt_free(&c.k);
     free(c.row);
     free(c.dirs);

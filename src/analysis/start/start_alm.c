@@ -109,7 +109,7 @@ static int rows_at(fs_kkt *k, const fs_control *c, const double *y, double mu, d
 {
     sf_equil *q = k->q;
     memcpy(ya, y, sizeof(double) * (size_t)k->nx);
-    memcpy(ya + k->nx, q->lam_a, sizeof(double) * (size_t)k->m);
+    memcpy(ya + k->nx, q->lam_anchor, sizeof(double) * (size_t)k->m);
     return sf_equil_residual(ya, eval_p(c, mu), F, q) ? SF_ENUMERIC : SF_OK;
 }
 
@@ -121,11 +121,11 @@ static int merit(fs_kkt *k, const fs_control *c, const double *y, double mu, dou
     int nx = k->nx, m = k->m;
     double pm = c->p0, Pi, rr, rt;
     if (rows_at(k, c, y, mu, ya, F)) return SF_ENUMERIC;
-    double v = 0.0;
+    double eps = q->eps_anchor, v = 0.0;
     for (int r = 0; r < m; r++) {
-        double g = F[nx + r], dw = q->dual[r] * q->yscale[nx + r] / q->fscale[nx + r];
-        v += q->lam_a[r] * g + g * g / (2.0 * dw);
-        ya[nx + r] = q->lam_a[r] + g / dw;   /* the multipliers Phi implies */
+        double g = F[nx + r], w = sf_equil_row_eps(q, 1.0, r) * q->yscale[nx + r] / q->fscale[nx + r];
+        v += q->lam_anchor[r] * g + g * g / (2.0 * eps * w);
+        ya[nx + r] = q->lam_anchor[r] + g / (eps * w);   /* the multipliers Phi implies */
     }
     sf_equil_report(q, ya, pm, &Pi, &rr, &rt);
     *phi = Pi + v;
@@ -251,8 +251,9 @@ int fs_alm(fs_kkt *k, const fs_control *c, double *y, double *mu, int branch, do
     double *d = malloc(sizeof(double) * ((size_t)n + 1));
     double *grad = malloc(sizeof(double) * ((size_t)nx + 1));
     double *lh = malloc(sizeof(double) * ((size_t)nx + 1));
+    if (!q->lam_anchor) q->lam_anchor = calloc((size_t)m + 1, sizeof(double));
     int rc = SF_OK;
-    if (!R || !F || !ya || !yt || !a || !d || !grad || !lh) {
+    if (!R || !F || !ya || !yt || !a || !d || !grad || !lh || !q->lam_anchor) {
         rc = sf_fail(err, SF_ENOMEM, "out of memory");
         goto done;
     }
@@ -261,11 +262,11 @@ int fs_alm(fs_kkt *k, const fs_control *c, double *y, double *mu, int branch, do
     for (int i = 0; c->row && i < nx; i++) beta = fmax(beta, fabs(c->row[i] * k->S[i]));
     if (!(beta > 0.0)) beta = 1.0;
     for (int i = 0; i < nx; i++) lh[i] = c->row ? c->row[i] * k->S[i] / beta : 0.0;
-    memcpy(q->lam_a, y + nx, sizeof(double) * (size_t)m);
+    memcpy(q->lam_anchor, y + nx, sizeof(double) * (size_t)m);
     double eps = c->eps0 > 0.0 ? c->eps0 : EPS_FIRST, gprev = INFINITY, shift = 0.0;
     int saddles = 0, stall = 0;
     for (int outer = 0; rc == SF_OK; outer++) {
-        fs_prox(k, eps);
+        q->eps_anchor = eps;
         res->outer = outer + 1;
         int conv = 0;
         for (int it = 0; it < INNER_MAX && res->newton < NEWTON_MAX; it++) {
@@ -341,7 +342,7 @@ int fs_alm(fs_kkt *k, const fs_control *c, double *y, double *mu, int branch, do
         for (int r = 0; r < m; r++) gres = fmax(gres, fabs(F[nx + r] * q->fscale[nx + r]));
         res->gres = gres;
         res->eps = eps;
-        memcpy(q->lam_a, y + nx, sizeof(double) * (size_t)m);
+        memcpy(q->lam_anchor, y + nx, sizeof(double) * (size_t)m);
         /* closed to half the Newton tolerance: the engine takes the point
          * as it is (where rows are nearly dependent its corrector does not
          * close them further from ten times the tolerance, measured on the
@@ -357,7 +358,7 @@ int fs_alm(fs_kkt *k, const fs_control *c, double *y, double *mu, int branch, do
         if (eps < EPS_MIN) { res->blocked = 1; break; }
     }
 done:
-    fs_prox_off(k);
+    q->eps_anchor = 0.0;
     free(R); free(F); free(ya); free(yt); free(a); free(d); free(grad); free(lh);
     return rc;
 }

@@ -35,7 +35,6 @@ typedef struct fs_kkt {
     double *tv;
     long tnnz, tcap;
     int *diag;              /* n: index of each diagonal triplet (-1: none) */
-    double *w;              /* m: each row's compliance factor in the start (start.c) */
     int neg;                /* negative pivots of the last factorisation */
     long nfact, neval;
 } fs_kkt;
@@ -49,12 +48,6 @@ int fs_kkt_eval(fs_kkt *k, const double *y, double p, sf_error *err);
 int fs_kkt_factor(fs_kkt *k, double shift, sf_error *err);
 /* Solve (K0 + shift) x = b in place, b in scaled units (n values). */
 int fs_kkt_solve(fs_kkt *k, double *b, sf_error *err);
-/* The proximal rows of the equilibrium problem on (equilibrium.h, its
- * "dual" regularisation): row r's weight eps times k->w[r], anchored at
- * q->lam_a; off: the plain equations. */
-int fs_prox(fs_kkt *k, double eps);
-void fs_prox_off(fs_kkt *k);
-
 /* w = K0 v (unshifted, scaled; n values each). */
 void fs_kkt_matvec(const fs_kkt *k, const double *v, double *w);
 

@@ -32,10 +32,6 @@ int fs_kkt_init(fs_kkt *k, sf_equil *q, sf_error *err)
     k->m = q->ncon;
     k->dense = q->n <= FS_DENSE_MAX;
     k->S = malloc(sizeof(double) * ((size_t)k->n + 1));
-    k->w = malloc(sizeof(double) * ((size_t)k->m + 1));
-    if (!k->w || sf_equil_use_dual(q)) return sf_fail(err, SF_ENOMEM, "out of memory");
-    for (int r = 0; r < k->m; r++) k->w[r] = 1.0;
-    q->dual_on = 0;
     k->Fp = calloc((size_t)k->n + 1, sizeof(double));
     if (!k->S || !k->Fp) return sf_fail(err, SF_ENOMEM, "out of memory");
     for (int i = 0; i < k->n; i++) k->S[i] = sqrt(q->fscale[i] / q->yscale[i]);
@@ -59,9 +55,7 @@ int fs_kkt_init(fs_kkt *k, sf_equil *q, sf_error *err)
 
 void fs_kkt_free(fs_kkt *k)
 {
-    if (k->q) k->q->dual_on = 0;
     free(k->S);
-    free(k->w);
     free(k->Fp);
     free(k->K);
     free(k->LD);
@@ -234,17 +228,4 @@ void fs_kkt_matvec(const fs_kkt *k, const double *v, double *w)
         w[i] += k->tv[e] * v[j];
         if (i != j) w[j] += k->tv[e] * v[i];
     }
-}
-
-int fs_prox(fs_kkt *k, double eps)
-{
-    sf_equil *q = k->q;
-    for (int r = 0; r < k->m; r++) q->dual[r] = eps * k->w[r];
-    q->dual_on = 1;
-    return SF_OK;
-}
-
-void fs_prox_off(fs_kkt *k)
-{
-    k->q->dual_on = 0;
 }
