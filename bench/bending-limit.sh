@@ -2,7 +2,7 @@
 # bench/bending-limit.sh - bending faces against rigid faces: the end point
 # (EP row) of a study's path with faces.bending on and the face modulus E
 # over a range, against the same study with rigid faces
-# (docs/bending-faces.md, "Validation").  Not part of make check (the test
+# (docs/guides/bending-faces.md, "Validation").  Not part of make check (the test
 # tests/test_bending.sh checks three of these points).
 #
 #   sh bench/bending-limit.sh [BUILD_DIR] [STUDY] [E ...]

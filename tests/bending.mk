@@ -1,4 +1,4 @@
-# tests/bending.mk: bending faces (src/pattern/facets.c, docs/bending-faces.md)
+# tests/bending.mk: bending faces (src/pattern/facets.c, docs/guides/bending-faces.md)
 check_PROGRAMS += tests/test_facets
 TESTS += tests/test_facets
 tests_test_facets_SOURCES = tests/test_facets.c

@@ -1,5 +1,5 @@
 /* test_facets.c - bending faces (src/pattern/facets.c,
- * docs/bending-faces.md): where the facets lie (the shorter diagonal of a
+ * docs/guides/bending-faces.md): where the facets lie (the shorter diagonal of a
  * parallelogram, given facet edges, a non-convex face triangulated inside
  * itself), their width, and the hinge stiffness of the model against the
  * closed form of Filipov et al. (2017), C_B (l/t)^(1/3) E t^3 / 12 (1 - nu^2);

@@ -154,7 +154,7 @@ int sf_cmd_check(const sf_options *o, sf_error *err)
     if (kmax != kmin) printf("..%d", kmax);
     printf("; %d generalised coordinates)\n", m->nq);
     if (s->bending)
-        printf("bending faces: %d facet hinges (folds %d..%d; docs/bending-faces.md), %d setback%s of "
+        printf("bending faces: %d facet hinges (folds %d..%d; docs/guides/bending-faces.md), %d setback%s of "
                "the study's folds raised to clear them\n", s->nfacets, s->nfolds - s->nfacets + 1,
                s->nfolds, s->nraised, s->nraised == 1 ? "" : "s");
     print_vertices(s, t, o->verbose);

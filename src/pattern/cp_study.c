@@ -209,9 +209,9 @@ static void emit(const plan *p, sf_outbuf *b, const char *name)
     } else {
         if (nflat)
             sf_outbuf_printf(b, "# The pattern's flat (F) edges are the facet edges of its faces: with\n"
-                             "# bending = true the faces bend along them (docs/bending-faces.md).\n");
+                             "# bending = true the faces bend along them (docs/guides/bending-faces.md).\n");
         else
-            sf_outbuf_printf(b, "# This pattern folds only if its faces bend (docs/bending-faces.md).\n");
+            sf_outbuf_printf(b, "# This pattern folds only if its faces bend (docs/guides/bending-faces.md).\n");
         sf_outbuf_printf(b, "faces = {\n  material = \"face\";\n  bending = %s;\n", o->bending ? "true" : "false");
         if (nflat) {
             sf_outbuf_printf(b, "  facets = [");

@@ -1,4 +1,4 @@
-/* facets.c - bending faces (faces.bending; docs/bending-faces.md): every
+/* facets.c - bending faces (faces.bending; docs/guides/bending-faces.md): every
  * face of the crease pattern is split into rigid triangles joined by facet
  * hinges, which become folds of the ordinary model, appended after the
  * study's own folds (sf_fold_def.facet = 1).  So the kinematics, loop rows,

@@ -1,6 +1,6 @@
 /* facets.h - bending faces (faces.bending): the faces of a study split
  * into rigid triangles joined by facet hinges, appended to the study as
- * folds (facets.c, docs/bending-faces.md). */
+ * folds (facets.c, docs/guides/bending-faces.md). */
 #ifndef SF_FACETS_H
 #define SF_FACETS_H
 

@@ -61,8 +61,8 @@ static const sf_study_key schema[] = {
 
     {"faces",                      G,     0,              0, 0,       NULL,          NULL, "-", "the rigid faces"},
     {"faces.material",             STR,   REQ,            0, 0,       NULL,          NULL, "-", "material of the faces (thickness, density; needed for gravity; E and nu when they bend)"},
-    {"faces.bending",              BOOL,  0,              0, 0,       "false",       NULL, "-", "faces bend: each face is split into rigid triangles joined by facet hinges whose stiffness follows from the face material (docs/bending-faces.md)"},
-    {"faces.bending_coefficient",  NUM,   POS,            0, 0,       "0.55",        NULL, "-", "C_B of the facet hinge stiffness C_B (L/t)^(1/3) E t^3 / (12 (1 - nu^2)) (Filipov et al. 2017; docs/bending-faces.md)"},
+    {"faces.bending",              BOOL,  0,              0, 0,       "false",       NULL, "-", "faces bend: each face is split into rigid triangles joined by facet hinges whose stiffness follows from the face material (docs/guides/bending-faces.md)"},
+    {"faces.bending_coefficient",  NUM,   POS,            0, 0,       "0.55",        NULL, "-", "C_B of the facet hinge stiffness C_B (L/t)^(1/3) E t^3 / (12 (1 - nu^2)) (Filipov et al. 2017; docs/guides/bending-faces.md)"},
     {"faces.facet_width",          NUM,   SF_KEY_GT | SF_KEY_LE, 0, 0.25, "0.02", NULL, "-", "band width of a facet hinge as a fraction of the shortest side of its face"},
     {"faces.facets",               NAMES, 0,              0, 0,       NULL,          NULL, "-", "facet edges given, each \"from to\" (two vertex names); faces without one are triangulated automatically (FOLD's F edges, written by import)"},
 
