@@ -17,8 +17,7 @@
 extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, const int *lda,
                    double *w, double *work, const int *lwork, int *info);
 
-/* v^T M v, M d x d. */
-static double quad_form(int d, const double *M, const double *v)
+double sf_quad_form(int d, const double *M, const double *v)
 {
     double s = 0.0;
     for (int a = 0; a < d; a++) {
@@ -148,7 +147,7 @@ int sf_lmi_max_min_eig(int d, const double *H0, int k, const double *A, double e
                     for (int j = 0; j < d; j++) {
                         double wj = fmax(xe[j], 0.0) / tr;
                         if (wj == 0.0) continue;
-                        s += wj * quad_form(d, M, X + (size_t)j * d);
+                        s += wj * sf_quad_form(d, M, X + (size_t)j * d);
                     }
                     if (q < 0) h = s;
                     else { g[q] = s; gn += s * s; }

@@ -12,4 +12,8 @@
 int sf_lmi_max_min_eig(int d, const double *H0, int k, const double *A, double emax, double amax,
                        double rho, double *mu, double *t_lo, double *t_up);
 
+/* v^T M v for the d x d row-major M (the forms of the LMIs and their
+ * callers). */
+double sf_quad_form(int d, const double *M, const double *v);
+
 #endif

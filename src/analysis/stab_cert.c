@@ -92,18 +92,6 @@ static double frob(const double *M, size_t n)
     return sqrt(f);
 }
 
-/* v^T M v, M d x d. */
-static double quad_form(int d, const double *M, const double *v)
-{
-    double s = 0.0;
-    for (int a = 0; a < d; a++) {
-        double t = 0.0;
-        for (int b = 0; b < d; b++) t += M[(size_t)a * d + b] * v[b];
-        s += v[a] * t;
-    }
-    return s;
-}
-
 /* A bound on the error of the smallest eigenvalue that eig_at computes at
  * mu: forming H0 + sum mu_k A_k costs (k + 1) eps of the summed norms, and
  * dsyev is backward stable (an error of order d eps |M|); both estimated,
@@ -152,7 +140,7 @@ static int ascend(cert *c, double *mu, double tau, double margin, double *G, dou
             if (!(c->ev[j] < tau)) break;
             const double *w = c->H + (size_t)j * d;
             for (int q = 0; q < k; q++) {
-                G[(size_t)m * k + q] = quad_form(d, c->A + (size_t)q * dd, w);
+                G[(size_t)m * k + q] = sf_quad_form(d, c->A + (size_t)q * dd, w);
             }
             rhs[m++] = tau - c->ev[j];
         }

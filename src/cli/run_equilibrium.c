@@ -120,6 +120,18 @@ static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, d
     if (r->flat_sw && flat_switch(r)) return err->code;
     return sf_bif_switch(&r->bif, cs, err);
 }
+/* The flat state as the path's first written point; nonzero when the
+ * point callback stopped the run. */
+static int write_flat_point(run_ctx *r, double *y0, double start)
+{
+    cont_point p0;
+    memset(&p0, 0, sizeof p0);
+    p0.y = y0;
+    p0.p = start;
+    run_on_point(&p0, r);
+    return r->failed;
+}
+
 /* The path starts at the flat state of a sheet with loops: write that
  * point, then find the first point off it (flatstart.h, the pose and
  * sparse variants).  0: the engine holds the first point, *ret = CONT_OK;
@@ -137,12 +149,7 @@ static int start_at_flat(run_ctx *r, double *y0, double start, double end, doubl
      * rows are undetermined there).  Report it, then start the branch
      * one step further from the limit of the branch at the flat state
      * (src/analysis/flatstart.c; the penalty homotopy as the fallback). */
-    cont_point p0;
-    memset(&p0, 0, sizeof p0);
-    p0.y = y0;
-    p0.p = start;
-    run_on_point(&p0, r);
-    if (r->failed) return *ret = err->code, 1;
+    if (write_flat_point(r, y0, start)) return *ret = err->code, 1;
     double p1 = start + dir * fmin(step, 0.25 * fabs(end - start));
     if (r->seg_end != end) p1 = start + dir * fmin(fabs(p1 - start), 0.25 * fabs(r->seg_end - start));
     r->s_offset = -1.0;   /* set from the first point (run_on_point) */
@@ -191,12 +198,7 @@ static int start_by_multipliers(run_ctx *r, double *y0, double start, double end
     sf_error *err = r->err;
     sf_equil *eq = &r->eq;
     cont_solver *cs = r->solver;
-    cont_point p0;
-    memset(&p0, 0, sizeof p0);
-    p0.y = y0;
-    p0.p = start;
-    run_on_point(&p0, r);
-    if (r->failed) return *ret = err->code, 1;
+    if (write_flat_point(r, y0, start)) return *ret = err->code, 1;
     r->s_offset = -1.0;   /* set from the first point (run_on_point) */
     int fb = 1;
     if (sf_study_int(s, "solver.flat_branch", 1, &fb, err)) return *ret = err->code, 1;

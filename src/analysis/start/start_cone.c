@@ -184,18 +184,6 @@ done:
     return rc;
 }
 
-/* v^T M v, M k x k. */
-static double qf(int k, const double *M, const double *v)
-{
-    double s = 0.0;
-    for (int a = 0; a < k; a++) {
-        double t = 0.0;
-        for (int b = 0; b < k; b++) t += M[(size_t)a * k + b] * v[b];
-        s += v[a] * t;
-    }
-    return s;
-}
-
 /* Levenberg-Marquardt on x^T Q_t x = 0, x^T A x = 1 from x0. */
 int fs_cone_ray(const fs_cone *C, const double *x0, double *x, double *res)
 {
@@ -210,14 +198,14 @@ int fs_cone_ray(const fs_cone *C, const double *x0, double *x, double *res)
         free(Jr); free(F); free(M); free(d); free(xt);
         return -1;
     }
-    double n0 = sqrt(fmax(qf(k, C->A, x0), 1e-300));
+    double n0 = sqrt(fmax(sf_quad_form(k, C->A, x0), 1e-300));
     for (int i = 0; i < k; i++) x[i] = x0[i] / n0;
     double mu = 1e-3, f = INFINITY;
     for (int it = 0; it < 300; it++) {
         f = 0.0;
         for (int t = 0; t <= r; t++) {
             const double *Q = t < r ? C->Q + (size_t)t * kk : C->A;
-            double v = qf(k, Q, x) - (t < r ? 0.0 : 1.0);
+            double v = sf_quad_form(k, Q, x) - (t < r ? 0.0 : 1.0);
             F[t] = v;
             f += v * v;
             for (int a = 0; a < k; a++) {
@@ -247,7 +235,7 @@ int fs_cone_ray(const fs_cone *C, const double *x0, double *x, double *res)
             for (int a = 0; a < k; a++) xt[a] = x[a] + d[a];
             double ft = 0.0;
             for (int t = 0; t <= r; t++) {
-                double v = qf(k, t < r ? C->Q + (size_t)t * kk : C->A, xt) - (t < r ? 0.0 : 1.0);
+                double v = sf_quad_form(k, t < r ? C->Q + (size_t)t * kk : C->A, xt) - (t < r ? 0.0 : 1.0);
                 ft += v * v;
             }
             if (ft < f) {
@@ -261,7 +249,7 @@ int fs_cone_ray(const fs_cone *C, const double *x0, double *x, double *res)
         if (mu > 1e20) break;
     }
     *res = 0.0;
-    for (int t = 0; t < r; t++) *res = fmax(*res, fabs(qf(k, C->Q + (size_t)t * kk, x)));
+    for (int t = 0; t < r; t++) *res = fmax(*res, fabs(sf_quad_form(k, C->Q + (size_t)t * kk, x)));
     free(Jr); free(F); free(M); free(d); free(xt);
     return 0;
 }
