@@ -132,7 +132,7 @@ int sf_stab_eval(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *
  * eigenvalue at a point with redundant constraint rows: look for a
  * self-stress mu of the rows (null C^T, at most 64 of them) with
  * Z^T HL(lambda + mu) Z positive definite, the second-order sufficient
- * condition; when found, res says stable, morse 0, certified 1, no
+ * condition; when found, res says stable, morse 0, certified 1 or 2, no
  * eigenvalues (stab_cert.c; docs/stability.md).  Called by
  * sf_stab_eval. */
 int sf_stab_certify(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *err);
