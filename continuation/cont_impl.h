@@ -44,6 +44,7 @@
 /* Constants documented in cont.h */
 #define SKIP_START_RATIO 1e-4   /* negligible test value at a start point */
 #define BP_NULL_TOL 1e-6        /* null-space check in cont_branch_direction */
+#define SIGN_TIE_RTOL 1e-6      /* magnitudes equal to this: the first decides the sign */
 #define LOC_MAXIT 100
 #define GUARD_ANGLE 0.05       /* rad, branch-jump guard in locate() */
 #define MERGE_FRAC 1e-3        /* LP and BP this close (fraction of the step) are one BP */

@@ -220,11 +220,16 @@ int cont_branch_direction(cont_solver *s, const double *y, double p,
             rc = ci_fail(s, CONT_ENUMERIC, "cont_branch_direction: no direction orthogonal to "
                       "the tangent");
         } else {
-            long imax = 0;
+            /* the sign: the first component within SIGN_TIE_RTOL of the
+             * largest magnitude is positive (a symmetric sheet has many
+             * components of equal magnitude, which rounding orders) */
+            double umax = 0.0;
             for (long i = 0; i < m; i++) {
                 u[i] /= nu;
-                if (fabs(u[i]) > fabs(u[imax]) * (1.0 + 1e-12)) imax = i;
+                umax = fmax(umax, fabs(u[i]));
             }
+            long imax = 0;
+            while (imax < m - 1 && fabs(u[imax]) < (1.0 - SIGN_TIE_RTOL) * umax) imax++;
             double sg = u[imax] < 0 ? -1.0 : 1.0;
             for (long i = 0; i < n; i++) ty_new[i] = sg * u[i];
             *tp_new = sg * u[n] / s->theta;

@@ -15,6 +15,7 @@ extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, 
 #define MBP_H1 1e-5      /* first differences along the branch */
 #define MBP_H2 1e-3      /* differences along kernel directions */
 #define MBP_SAMPLES 2000 /* samples of the angle function on [0, pi] */
+#define MBP_SAME_RTOL 1e-6  /* step coordinates equal to this (relative): the same */
 
 typedef struct mbp_ws {
     sf_equil *eq;
@@ -212,6 +213,48 @@ static int reduce(mbp_ws *W, const double *y0, double p0, sf_mbp *res, sf_error 
     return SF_OK;
 }
 
+/* Whether direction a comes before direction b: by the first coordinate of
+ * the predicted step y - y0 that differs by more than MBP_SAME_RTOL of the
+ * largest, smaller first.  The kernel basis (dsyev's eigenvectors of a
+ * nearly double eigenvalue) turns and changes sign with rounding, and with
+ * it the angles theta; the steps themselves do not. */
+static int dir_before(const sf_mbp *res, const double *y0, int a, int b)
+{
+    int n = res->n;
+    const double *ya = res->y + (size_t)a * n, *yb = res->y + (size_t)b * n;
+    double big = 0.0;
+    for (int j = 0; j < n; j++) big = fmax(big, fmax(fabs(ya[j] - y0[j]), fabs(yb[j] - y0[j])));
+    for (int j = 0; j < n; j++) {
+        double da = ya[j] - y0[j], db = yb[j] - y0[j];
+        if (fabs(da - db) > MBP_SAME_RTOL * big) return da < db;
+    }
+    return 0;
+}
+
+static void swap_dir(sf_mbp *res, int a, int b)
+{
+    int n = res->n;
+    double *arrs[] = {res->theta, res->lam, res->p, res->tp};
+    for (int k = 0; k < 4; k++) {
+        double t = arrs[k][a]; arrs[k][a] = arrs[k][b]; arrs[k][b] = t;
+    }
+    double *vs[] = {res->y, res->ty};
+    for (int k = 0; k < 2; k++)
+        for (int j = 0; j < n; j++) {
+            double t = vs[k][(size_t)a * n + j];
+            vs[k][(size_t)a * n + j] = vs[k][(size_t)b * n + j];
+            vs[k][(size_t)b * n + j] = t;
+        }
+}
+
+/* The directions in an order that does not depend on rounding, so that the
+ * branches leaving the point are numbered the same under every kernel. */
+static void order_directions(sf_mbp *res, const double *y0)
+{
+    for (int i = 1; i < res->ndir; i++)
+        for (int j = i; j > 0 && dir_before(res, y0, j, j - 1); j--) swap_dir(res, j, j - 1);
+}
+
 int sf_mbp_directions(sf_equil *eq, const double *y0, double p0, int d, double r,
                       double lam_max, sf_mbp *res, sf_error *err)
 {
@@ -303,6 +346,7 @@ int sf_mbp_directions(sf_equil *eq, const double *y0, double p0, int d, double r
         res->theta[k] = roots[i];
     }
     ws_free(&W);
+    order_directions(res, y0);
     if (res->ndir == 0)
         return sf_fail(err, SF_ENUMERIC, "the reduced bifurcation equations (order %d) have no "
                        "isolated solution", order);

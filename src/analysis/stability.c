@@ -27,6 +27,9 @@ extern void dgemm_(const char *ta, const char *tb, const int *m, const int *n, c
 /* Rows shorter than this times the longest are zero rows (e.g. loop rows
  * of second order at the flat state). */
 #define ZERO_ROW 1e-13
+/* Eigenvalues of the reduced Hessian below this times the largest
+ * magnitude are zero (the Hessian's assembly is not more accurate). */
+#define ZERO_EIG 1e-10
 
 /* Scratch of the dense method: U, W, Hc (nq x nq each), C^T (nq x nc),
  * singular and eigenvalues, and LAPACK's workspace (dgesvd with all of U:
@@ -204,10 +207,14 @@ static int eval_dense(sf_stab *st, sf_error *err)
     dgemm_("T", "N", &d, &d, &nq, &one, Z, &nq, W, &nq, &zero, Hc, &d);
     dsyev_("N", "U", &d, Hc, &d, ev, wk, &lwk, &info);
     if (info != 0) return sf_fail(err, SF_ENUMERIC, "stability: dsyev failed (info %d)", info);
+    /* eigenvalues within ZERO_EIG of zero (a located limit or branch
+     * point) are zero: neither counted in the Morse index nor stable, so
+     * that rounding does not decide the verdict there */
+    double zt = ZERO_EIG * fmax(fabs(ev[0]), fabs(ev[d - 1]));
     R->morse = 0;
     for (int i = 0; i < d; i++)
-        if (ev[i] < 0.0) R->morse++;
-    R->stable = R->morse == 0 && ev[0] > 0.0;
+        if (ev[i] < -zt) R->morse++;
+    R->stable = R->morse == 0 && ev[0] > zt;
     R->neig = d < st->nev ? d : st->nev;
     memcpy(R->eig, ev, sizeof(double) * R->neig);
     return SF_OK;
