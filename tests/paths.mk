@@ -32,3 +32,6 @@ TESTS += tests/test_check_cost
 tests_test_check_cost_SOURCES = tests/test_check_cost.c
 tests_test_check_cost_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_check_cost_LDADD = $(SF_TEST_LIBS)
+# results independent of the BLAS kernel (OPENBLAS_CORETYPE)
+TESTS += tests/test_kernels.sh
+EXTRA_DIST += tests/test_kernels.sh

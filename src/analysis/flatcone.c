@@ -586,7 +586,7 @@ static int add_sol(const red *R, const double *v, double a0, double *sols, doubl
 /* Whether branch a comes before branch b (z: full coordinates, en:
  * energies): lower energy first; of equal energies (to ORDER_TIE_RTOL) the
  * one whose first displacement coordinate that differs (by more than
- * ORDER_SAME_RTOL of the largest) is smaller. */
+ * ORDER_SAME_RTOL of the largest) is larger. */
 static int branch_before(const sf_limit *L, const double *z, const double *en, int a, int b)
 {
     double scale = fmax(fabs(en[a]), fabs(en[b]));
@@ -594,7 +594,7 @@ static int branch_before(const sf_limit *L, const double *z, const double *en, i
     const double *za = z + (size_t)a * L->n, *zb = z + (size_t)b * L->n;
     double big = fmax(maxabs(za, L->nq), maxabs(zb, L->nq));
     for (int i = 0; i < L->nq; i++)
-        if (fabs(za[i] - zb[i]) > ORDER_SAME_RTOL * big) return za[i] < zb[i];
+        if (fabs(za[i] - zb[i]) > ORDER_SAME_RTOL * big) return za[i] > zb[i];
     return 0;
 }
 
@@ -748,7 +748,7 @@ int sf_cone_find_rays(const sf_limit *L, int nstarts, const double *zextra, cons
     /* the branches in full coordinates, then ordered by energy; energies
      * equal to ORDER_TIE_RTOL (mirror images of a symmetric sheet, whose
      * computed energies differ only by rounding) by their first coordinate
-     * that differs, smaller first, so that the order, and the branch the
+     * that differs, larger first, so that the order, and the branch the
      * start follows, does not change with the BLAS kernel */
     c->z = calloc((size_t)ns * L->n + 1, sizeof(double));
     c->energy = calloc((size_t)ns + 1, sizeof(double));
