@@ -12,8 +12,9 @@
 #  2: the 3x3 Miura actuation in face poses: exit 0, p = 1, every written
 #     point closed (rotation rows 1e-10, translation rows 1e-12 m), and
 #     at p = 1 the fold formulation's energy and fold angles (default
-#     start) to 1e-8 (not the probe: docs/design/start.md, "What it does not do
-#     yet");
+#     start) to 1e-8 (not the probe: the two formulations end on mirror
+#     branches in the fold bands' modes, of equal energy and fold angles;
+#     docs/design/start.md, "What it does not do yet");
 #  3: the degree-4 vertex with finite widths and K = 0 (tests/studies/
 #     deg4.cfg) is reported locked by a prestress certificate (exit 5,
 #     one line, no result file), as the vertex-by-vertex mobility
