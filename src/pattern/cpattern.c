@@ -176,9 +176,10 @@ int sf_cp_outline(const sf_cpattern *cp, int **out, int *n, const char *where,
     }
     for (int v = 0; v < cp->nv; v++)
         if (deg[v] != 0 && deg[v] != 2) {
+            int d = deg[v];   /* read before the array is freed */
             free(deg);
             return FAILW("%svertices_coords[%d]: %d boundary edges meet there (the outline must be "
-                         "one simple loop: 2 at each boundary vertex)", w, v, deg[v]);
+                         "one simple loop: 2 at each boundary vertex)", w, v, d);
         }
     free(deg);
     int *loop = malloc((size_t)nb * sizeof *loop);
