@@ -52,5 +52,6 @@ bad "unknown pattern 'kresling' (patterns: miura, yoshimura, waterbomb)" pattern
 bad "--cells=2: expected two numbers joined by 'x'" pattern miura --cells=2
 bad "sector angle 95 degrees: must be in (0, 90)" pattern miura --angle=95
 bad "--angle applies to miura only" pattern yoshimura --angle=30
-# bands wider than the setbacks allow: the topology's message, naming the output
-bad "bad.cfg (generated)" pattern miura --width=0.05
+# bands wider than the setbacks allow: the topology's message about the
+# generated study (never written), and the width to try
+bad "not written): fold 1 (v0_1->v1_1): setbacks 0.005 + 0.05413 leave no band (fold length 0.04); the band width was 0.05 m: try a narrower one, --set defaults.width=0.025" pattern miura --width=0.05

@@ -1,7 +1,8 @@
 /* cp_from_study.c - a study's crease pattern as FOLD sees it (cpattern.h):
  * the study's vertices with their names, its folds in study order, then
- * the outline edges of the topology (with the vertices it inserted), and
- * the crease-pattern faces. */
+ * the outline edges of the topology (with the vertices it inserted), the
+ * facet edges (F), and the crease-pattern faces (not with facet edges: the
+ * rigid faces do not split at them, FOLD's faces would). */
 #include "cpattern.h"
 
 #include <math.h>
@@ -50,6 +51,9 @@ int sf_cp_from_study(const sf_study *s, const sf_topology *t, sf_cpattern *cp,
     for (int k = 0; k < t->nboundary; k++)
         if (sf_cp_add_edge(cp, t->boundary[k], t->boundary[(k + 1) % t->nboundary], 'B', NAN) < 0)
             goto oom;
+    for (int k = 0; k < s->nfacets; k++)
+        if (sf_cp_add_edge(cp, s->facets[k][0], s->facets[k][1], 'F', 0.0) < 0) goto oom;
+    if (s->nfacets) return SF_OK;   /* the topology's faces ignore the facet edges */
     int total = 0;
     for (int f = 0; f < t->nfaces; f++) total += t->faces[f].nverts;
     cp->face_start = malloc((size_t)(t->nfaces + 1) * sizeof *cp->face_start);

@@ -276,7 +276,7 @@ void sf_cp_setbacks(const sf_cpattern *cp, const double *width,
         int nr = 0;
         for (int e = 0; e < cp->ne; e++) {
             int end = cp->e[e].a == v ? 0 : cp->e[e].b == v ? 1 : -1;
-            if (end < 0) continue;
+            if (end < 0 || width[e] < 0) continue;
             int o = end ? cp->e[e].a : cp->e[e].b;
             double dx = cp->v[o].x[0] - cp->v[v].x[0], dy = cp->v[o].x[1] - cp->v[v].x[1];
             double ang = atan2(dy, dx);

@@ -81,6 +81,9 @@ typedef struct sf_study {
     int nfolds;
     sf_fold_def *folds;
 
+    int nfacets;                /* facet edges (facets): lines across faces that */
+    int (*facets)[2];           /* are no folds; vertex indices [from, to] */
+
     int nmaterials;
     sf_material *materials;
     int face_material;          /* index, -1 when no face material is given */

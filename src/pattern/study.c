@@ -84,6 +84,11 @@ static const sf_study_key schema[] = {
     {"folds[].assignment",         STR,   0,              0, 0,       NULL,          "M|V",   "-", "mountain or valley (valley positive): check rejects a rest angle of the other sign"},
     {"folds[].damping",            NUM,   POS,            0, 0,       NULL,          NULL, "J s", "dynamics: damping coefficient of the fold angle (else analysis.damping)"},
 
+    {"facets",                     LIST,  0,              0, 0,       NULL,          NULL, "-", "facet edges: straight lines across faces that are not folds (FOLD \"F\", SVG yellow), kept for the bending of faces; the rigid faces ignore them"},
+    {"facets[]",                   G,     0,              0, 0,       NULL,          NULL, "-", "one facet edge"},
+    {"facets[].from",              STR,   REQ,            0, 0,       NULL,          NULL, "-", "start vertex"},
+    {"facets[].to",                STR,   REQ,            0, 0,       NULL,          NULL, "-", "end vertex"},
+
     {"fixed_face",                 V2,    REQ,            0, 0,       NULL,          NULL, "m", "a point inside the fixed face"},
 
     {"loads",                      LIST,  0,              0, 0,       NULL,          NULL, "-", "dead point loads"},
@@ -330,6 +335,7 @@ void sf_study_free(sf_study *s)
     free(s->vertices);
     free(s->outline);
     free(s->folds);
+    free(s->facets);
     free(s->materials);
     free(s->loads);
     free(s->groups);
