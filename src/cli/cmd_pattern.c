@@ -56,7 +56,7 @@ static const char *pattern_usage =
     "      --planarize         import FOLD: merge close vertices and split crossing\n"
     "                          edges as for SVG\n"
     "      --merge=TOL         import: merge tolerance, a fraction of the sheet's\n"
-    "                          size (default 0.001)\n"
+    "                          size (default 0.003)\n"
     "      --set KEY=VALUE     override a study setting (as for run)\n";
 
 typedef struct popts {

@@ -9,8 +9,9 @@
  *   2. every edge split where another edge crosses it or where a vertex
  *      lies within tol of it (a T-junction, or an overlapping collinear
  *      edge's end), the new vertices merged as in 1;
- *   3. zero-length edges dropped, duplicates merged (a fold over a boundary
- *      edge or over a fold of the other assignment is an error).
+ *   3. zero-length edges dropped, duplicates merged (a line drawn over the
+ *      outline is the outline, a fold over a facet or unassigned line is
+ *      the fold, a mountain over a valley is an error).
  * Pairs are tested through a uniform grid of cells of the mean edge length,
  * so the work grows with the number of nearby pairs. */
 #include "cpattern.h"
@@ -227,8 +228,19 @@ static int pair_cuts(sf_cpattern *cp, int e, int f, double tol, cuts *cs)
     double w[2] = {r[0] - p[0], r[1] - p[1]};
     double t = (w[0] * d2[1] - w[1] * d2[0]) / den;
     double u = (w[0] * d1[1] - w[1] * d1[0]) / den;
-    if (t * l1 <= tol || (1 - t) * l1 <= tol || u * l2 <= tol || (1 - u) * l2 <= tol) return SF_OK;
     if (t <= 0 || t >= 1 || u <= 0 || u >= 1) return SF_OK;
+    int near_e = t * l1 <= tol || (1 - t) * l1 <= tol, near_f = u * l2 <= tol || (1 - u) * l2 <= tol;
+    if (near_e && near_f) return SF_OK;   /* two ends within tol: merged */
+    if (near_e || near_f) {
+        /* the crossing is next to an end of one edge: the other is cut there
+         * (the end lies within tol of it, but beyond the T-junction test
+         * when its foot is next to the other's end) */
+        int cutme = near_e ? f : e, end = near_e ? (t * l1 <= tol ? E->a : E->b) : (u * l2 <= tol ? F->a : F->b);
+        const sf_cp_edge *C = &cp->e[cutme];
+        double dist, w2 = param(cp->v[C->a].x, cp->v[C->b].x, cp->v[end].x, &dist);
+        if (w2 > 0 && w2 < 1 && add_cut(cs, cutme, w2, end)) return SF_ENOMEM;
+        return SF_OK;
+    }
     int v = sf_cp_add_vertex(cp, p[0] + t * d1[0], p[1] + t * d1[1], NULL);
     if (v < 0) return SF_ENOMEM;
     if (add_cut(cs, e, t, v) || add_cut(cs, f, u, v)) return SF_ENOMEM;
@@ -309,7 +321,7 @@ static char stronger(char p, char q)
 {
     if (p == q) return p;
     static const char rank[] = "UFMV";   /* M and V outrank F and U */
-    if (p == 'B' || q == 'B') return 0;
+    if (p == 'B' || q == 'B') return 'B';   /* a line on the outline is the outline */
     if ((p == 'M' && q == 'V') || (p == 'V' && q == 'M')) return 0;
     return strchr(rank, p) > strchr(rank, q) ? p : q;
 }
@@ -368,6 +380,7 @@ int sf_cp_planarize(sf_cpattern *cp, double tol, const char *where, sf_error *er
     if (!rc) rc = dedupe(cp, where, err);
     /* a split can leave a vertex within tol of a third edge: once more */
     if (!rc) rc = split_edges(cp, tol, err);
+    if (!rc) rc = merge_vertices(cp, tol, err);
     if (!rc) rc = dedupe(cp, where, err);
     return rc;
 }

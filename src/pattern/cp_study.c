@@ -46,6 +46,7 @@ typedef struct plan {
     char *vused;
     double w, w_auto;           /* the band width [m]; the automatic one before fitting */
     int w_fitted;               /* 1: narrowed so that every band keeps a quarter of its fold */
+    int halved;                 /* k: the automatic width halved k times to fit the faces */
     double fixed[2], probe[2];
 } plan;
 
@@ -205,8 +206,9 @@ static int plan_make(plan *p, const sf_cpattern *cp, const sf_cp_study_opts *o, 
         }
     if (p->nfold == 0) {
         free(loop); free(lastedge);
-        return sf_fail(err, SF_EINPUT, "the crease pattern has no folds (no M, V or U edges%s)",
-                       o->include_flat ? ", nor F" : "");
+        return sf_fail(err, SF_EINPUT, "the crease pattern has no folds (no M, V or U edges%s)%s",
+                       o->include_flat ? ", nor F" : "",
+                       p->nfacet && !o->include_flat ? ": its F (flat, facet) edges become folds with --include-flat" : "");
     }
     if (o->width > 0) p->w = o->width;
     else {   /* 0.1 x the shortest fold, to 3 digits */
@@ -309,7 +311,11 @@ static void emit(const plan *p, sf_outbuf *b, const char *name)
                      "  fold = { E = 15.2e6; nu = 0.45; thickness = 1.8e-3; density = 1200.0; };\n"
                      "  face = { thickness = 2.0e-3; density = 1040.0; };\n"
                      "};\nfaces = { material = \"face\"; };\n\n");
-    if (p->w_fitted)
+    if (p->halved)
+        sf_outbuf_printf(b, "# The band width is the automatic one halved %d time%s: wider bands did not fit\n"
+                         "# the faces (their bodies between the bands would be empty, or bands overlap).\n",
+                         p->halved, p->halved == 1 ? "" : "s");
+    else if (p->w_fitted)
         sf_outbuf_printf(b, "# The band width is narrower than 0.1 x the shortest fold (%s m) so that\n"
                          "# every band keeps at least a quarter of its fold between its setbacks.\n",
                          real(r1, p->w_auto));
@@ -444,13 +450,51 @@ static int choose_faces(plan *p, const char *tmp, sf_error *err)
     return SF_OK;
 }
 
+static int sizing_failed(const char *msg)
+{
+    return strstr(msg, "leave no band") || strstr(msg, "overlap") || strstr(msg, "too wide");
+}
+
+static int write_once(const sf_cpattern *cp, const sf_cp_study_opts *o, int halved, double *w_out,
+                      const char *path, int nset, const char *const *sets, sf_error *err);
+
 int sf_cp_write_study(const sf_cpattern *cp, const sf_cp_study_opts *o,
                       const char *path, int nset, const char *const *sets,
                       sf_error *err)
 {
+    double w = 0;
+    int rc = write_once(cp, o, 0, &w, path, nset, sets, err);
+    if (!rc || o->width > 0 || !sizing_failed(err->msg)) return rc;
+    /* the automatic width does not fit the faces (the setbacks only see the
+     * vertices): the largest of w/2, w/4, ... w/16 whose bands fit */
+    sf_error first = *err;
+    sf_cp_study_opts o2 = *o;
+    double w2;
+    for (int k = 1; k <= 4 && rc && sizing_failed(err->msg); k++) {
+        char wb[40];
+        snprintf(wb, sizeof wb, "%.2g", w / (1 << k));
+        o2.width = strtod(wb, NULL);
+        sf_error_clear(err);
+        rc = write_once(cp, &o2, k, &w2, path, nset, sets, err);
+    }
+    if (rc) {
+        char wb[40];
+        snprintf(wb, sizeof wb, "%.2g", w / 16);
+        *err = first;
+        size_t l = strlen(err->msg);
+        snprintf(err->msg + l, sizeof err->msg - l, " (halving it down to %s m did not fit either)", wb);
+    }
+    return rc;
+}
+
+static int write_once(const sf_cpattern *cp, const sf_cp_study_opts *o, int halved, double *w_out,
+                      const char *path, int nset, const char *const *sets, sf_error *err)
+{
     plan p;
     int rc = plan_make(&p, cp, o, err);
     if (rc) { plan_free(&p); return rc; }
+    p.halved = halved;
+    *w_out = p.w;
     const char *name = o->name ? o->name : cp->title[0] ? cp->title : "pattern";
     char tmp[1100];
     snprintf(tmp, sizeof tmp, "%s.tmp", path);

@@ -205,7 +205,8 @@ int sf_cp_outline(const sf_cpattern *cp, int **out, int *n, const char *where,
     if (k != nb || cur != loop[0]) {
         free(loop);
         return FAILW("%sedges_assignment: the boundary (\"B\") edges form more than one loop "
-                     "(%d of %d edges in the loop through vertex %d)", w, k, nb, cp->e[first].a);
+                     "(%d of %d edges in the loop through vertex %d): a sheet is one piece with one outline, "
+                     "without holes (several patterns in one file?)", w, k, nb, cp->e[first].a);
     }
     if (loop_area(cp, loop, nb) < 0)
         for (int i = 1, j = nb - 1; i < j; i++, j--) {

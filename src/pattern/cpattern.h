@@ -73,9 +73,9 @@ int sf_cp_outline(const sf_cpattern *cp, int **out, int *n, const char *where,
 
 /* Drawn line work made planar (cp_clean.c): vertices within tol merged,
  * edges split where they cross or where a vertex lies on them, zero-length
- * edges dropped, duplicates merged (a fold drawn over a facet or
- * unassigned line wins; over a boundary line or a fold of the other
- * assignment it is an error).  Faces are dropped. */
+ * edges dropped, duplicates merged (a line over the outline is the
+ * outline, a fold over a facet or unassigned line is the fold, a mountain
+ * over a valley is an error).  Faces are dropped. */
 int sf_cp_planarize(sf_cpattern *cp, double tol, const char *where, sf_error *err);
 
 /* outer[e] = 1 for the edges on the outer face of the pattern's graph (the
@@ -133,7 +133,9 @@ void sf_cp_study_opts_default(sf_cp_study_opts *o);
  * overrides and build its topology: on any failure nothing is left at path
  * and err holds one line.  The fixed face is chosen on a first pass through
  * the topology.  With overrides the merged study is written instead (its
- * values, with the header comment). */
+ * values, with the header comment).  When the automatic width (o->width
+ * <= 0) gives bands that do not fit the faces, it is halved up to four
+ * times; the message of the first failure is kept when none fits. */
 int sf_cp_write_study(const sf_cpattern *cp, const sf_cp_study_opts *o,
                       const char *path, int nset, const char *const *sets,
                       sf_error *err);

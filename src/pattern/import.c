@@ -15,7 +15,7 @@ void sf_import_opts_default(sf_import_opts *o)
     memset(o, 0, sizeof *o);
     o->frame = -1;
     o->angle_sign = SF_SIGN_FOLD;
-    o->merge = 1e-3;
+    o->merge = 3e-3;
 }
 
 void sf_import_note(sf_import_info *info, const char *fmt, ...)
@@ -115,6 +115,14 @@ int sf_import_read(const char *path, const sf_import_opts *o, sf_cpattern *cp,
     info->width = s * (hi[0] - lo[0]);
     info->height = s * (hi[1] - lo[1]);
     rc = sf_cp_check(cp, path, err);
+    if (rc && (strstr(err->msg, "crosses") || strstr(err->msg, "same point as") || strstr(err->msg, "zero length") ||
+               strstr(err->msg, "lies inside the edge") || strstr(err->msg, "duplicate of"))) {
+        size_t l = strlen(err->msg);
+        if (svg || o->planarize)
+            snprintf(err->msg + l, sizeof err->msg - l, "; --merge=%g merges ends farther apart", 2 * o->merge);
+        else
+            snprintf(err->msg + l, sizeof err->msg - l, "; --planarize merges close vertices and splits crossing edges");
+    }
     if (rc) sf_cp_free(cp);
     return rc;
 }

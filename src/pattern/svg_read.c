@@ -7,8 +7,11 @@
  * mapped through its transforms, classed by its stroke colour
  *   black boundary (B), red mountain (M), blue valley (V), yellow facet
  *   (F), magenta unassigned (U), green cut (refused),
- * with fold angle +-180 degrees x opacity x stroke-opacity for M and V.
- * Colours come from the style attribute, the presentation attribute or a
+ * with fold angle +-180 degrees x opacity x stroke-opacity for M and V;
+ * Rabbit Ear's data-assignment and data-foldAngle attributes, where an
+ * element or its group has them, take the colour's place.
+ * Colours (names, #rgb, #rrggbb, rgb(), rgba(), hsl(), hsla(); the alpha
+ * counts as opacity) come from the style attribute, the presentation attribute or a
  * <style> sheet's rules (selectors tag, .class, #id, tag.class, *),
  * inherited from the ancestors.  The segments are then made planar
  * (sf_cp_planarize) with the merge tolerance. */
@@ -181,8 +184,21 @@ static int hex(char c) { return c >= '0' && c <= '9' ? c - '0' : (c | 32) >= 'a'
 
 /* the convention's class of a colour: 'B','M','V','F','U','C', 0 for none,
  * '?' for another colour */
-static char colour_class(const char *c)
+/* hue (degrees), saturation and lightness (0..1) to 0..255 */
+static void hsl_rgb(double h, double sat, double l, int rgb[3])
 {
+    double c = (1 - fabs(2 * l - 1)) * sat, hp = fmod(fmod(h, 360) + 360, 360) / 60;
+    double x = c * (1 - fabs(fmod(hp, 2) - 1)), m = l - c / 2, r = 0, g = 0, b = 0;
+    if (hp < 1) { r = c; g = x; } else if (hp < 2) { r = x; g = c; } else if (hp < 3) { g = c; b = x; }
+    else if (hp < 4) { g = x; b = c; } else if (hp < 5) { r = x; b = c; } else { r = c; b = x; }
+    rgb[0] = (int)lround(255 * (r + m));
+    rgb[1] = (int)lround(255 * (g + m));
+    rgb[2] = (int)lround(255 * (b + m));
+}
+
+static char colour_class(const char *c, double *alpha)
+{
+    *alpha = 1;
     char s[64];
     size_t k = 0;
     for (; *c && k + 1 < sizeof s; c++)
@@ -202,15 +218,20 @@ static char colour_class(const char *c)
             if (h1 < 0 || h2 < 0) return '?';
             rgb[i] = 16 * h1 + h2;
         }
-    } else if (strncmp(s, "rgb(", 4) == 0) {
-        const char *p = s + 4;
-        for (int i = 0; i < 3; i++) {
-            double v;
-            if (svg_number(&p, &v)) return '?';
-            if (*p == '%') { v *= 2.55; p++; }
-            rgb[i] = (int)lround(v);
+    } else if (strncmp(s, "rgb(", 4) == 0 || strncmp(s, "rgba(", 5) == 0 ||
+               strncmp(s, "hsl(", 4) == 0 || strncmp(s, "hsla(", 5) == 0) {
+        int hsl = s[0] == 'h', a = s[3] == 'a';
+        const char *p = s + (a ? 5 : 4);
+        double v[4] = {0, 0, 0, 1};
+        for (int i = 0; i < 3 + a; i++) {
+            if (svg_number(&p, &v[i])) return '?';
+            if (*p == '%') { v[i] = i == 3 ? v[i] / 100 : hsl ? v[i] / 100 : v[i] * 2.55; p++; }
             if (*p == ',') p++;
         }
+        if (*p != ')') return '?';
+        if (hsl) hsl_rgb(v[0], v[1], v[2], rgb);
+        else for (int i = 0; i < 3; i++) rgb[i] = (int)lround(v[i]);
+        *alpha = fmin(1, fmax(0, v[3]));
     } else return '?';
     static const struct { int r, g, b; char c; } cols[] = {
         {0, 0, 0, 'B'}, {255, 0, 0, 'M'}, {0, 0, 255, 'V'}, {255, 255, 0, 'F'}, {255, 0, 255, 'U'}, {0, 255, 0, 'C'},
@@ -392,7 +413,23 @@ static int walk(sv *r, xmlNode *n, const svg_xf *parent, double opacity)
         int shape = !strcmp(t, "line") || !strcmp(t, "rect") || !strcmp(t, "polyline") || !strcmp(t, "polygon") ||
                     !strcmp(t, "path") || !strcmp(t, "circle") || !strcmp(t, "ellipse");
         if (shape) {
-            char c = inherited(r, n, "stroke", v, sizeof v) ? colour_class(v) : 0;
+            double alpha = 1, dangle = NAN;
+            char c = 0;
+            /* Rabbit Ear's attributes, where given, say it outright */
+            const char *da = NULL, *dfa = NULL;
+            for (xmlNode *u = n; u && u->type == XML_ELEMENT_NODE && !da; u = u->parent) da = attr(u, "data-assignment");
+            for (xmlNode *u = n; u && u->type == XML_ELEMENT_NODE && !dfa; u = u->parent) dfa = attr(u, "data-foldAngle");
+            if (da) {
+                char a = (char)(da[0] & ~32);
+                if (a == 'J')
+                    return BADS("%s:%ld: %s: data-assignment \"%s\" (join): a smoothfold sheet is one piece, without joins",
+                                r->path, (long)xmlGetLineNo(n), el_name(n, nm, sizeof nm), da);
+                if (!strchr("BMVFUC", a) || !a || da[1])
+                    return BADS("%s:%ld: %s: data-assignment \"%s\": unknown (FOLD's B, M, V, F, U, C, J)",
+                                r->path, (long)xmlGetLineNo(n), el_name(n, nm, sizeof nm), da);
+                c = a;
+                if (dfa) dangle = number_or(dfa, NAN);
+            } else if (inherited(r, n, "stroke", v, sizeof v)) c = colour_class(v, &alpha);
             if (c && inherited(r, n, "visibility", v, sizeof v) && strcmp(v, "visible") != 0) { r->hidden++; c = 0; }
             if (c == '?') {
                 inherited(r, n, "stroke", v, sizeof v);
@@ -403,13 +440,17 @@ static int walk(sv *r, xmlNode *n, const svg_xf *parent, double opacity)
             }
             if (!c) continue;
             if (c == 'C')
-                return BADS("%s:%ld: %s: a green (cut) line: a smoothfold sheet is one piece, without cuts",
+                return BADS("%s:%ld: %s: a cut (a green line, or data-assignment C): a smoothfold sheet is one piece, without cuts",
                             r->path, (long)xmlGetLineNo(n), el_name(n, nm, sizeof nm));
             double so = inherited(r, n, "stroke-opacity", v, sizeof v) ? number_or(v, 1) : 1;
-            double frac = fmin(1, fmax(0, op * so));
+            double frac = fmin(1, fmax(0, op * so * alpha));
             r->xf = xf;
             r->assign = c;
             r->angle = c == 'M' ? -180 * frac : c == 'V' ? 180 * frac : c == 'F' ? 0 : NAN;
+            if (da) {   /* data-foldAngle in FOLD's degrees, sign from the assignment */
+                r->angle = c == 'F' ? 0 : (c == 'M' || c == 'V') && isfinite(dangle) ? (c == 'M' ? -1 : 1) * fabs(dangle) : NAN;
+                if (r->angle == 0 && c != 'F') r->angle = NAN;
+            }
             int rc = read_shape(r, n, t);
             if (rc) return rc;
             continue;
