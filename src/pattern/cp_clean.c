@@ -11,7 +11,9 @@
  *      edge's end), the new vertices merged as in 1;
  *   3. zero-length edges dropped, duplicates merged (a line drawn over the
  *      outline is the outline, a fold over a facet or unassigned line is
- *      the fold, a mountain over a valley is an error).
+ *      the fold, a mountain over a valley is an error unless the edge is
+ *      shorter than 10 tol: a sliver where two lines nearly meet, whose
+ *      first drawn stays).
  * Pairs are tested through a uniform grid of cells of the mean edge length,
  * so the work grows with the number of nearby pairs. */
 #include "cpattern.h"
@@ -326,7 +328,7 @@ static char stronger(char p, char q)
     return strchr(rank, p) > strchr(rank, q) ? p : q;
 }
 
-static int dedupe(sf_cpattern *cp, const char *where, sf_error *err)
+static int dedupe(sf_cpattern *cp, double tol, const char *where, sf_error *err)
 {
     ekey *k = malloc((size_t)(cp->ne + 1) * sizeof *k);
     char *drop = calloc((size_t)cp->ne + 1, 1);
@@ -343,6 +345,12 @@ static int dedupe(sf_cpattern *cp, const char *where, sf_error *err)
         if (k[i].a != k[i - 1].a || k[i].b != k[i - 1].b) continue;
         int keep = k[i - 1].e, dup = k[i].e;
         char s = stronger(cp->e[keep].assign, cp->e[dup].assign);
+        const double *pa = cp->v[k[i].a].x, *pb = cp->v[k[i].b].x;
+        if (!s && hypot(pb[0] - pa[0], pb[1] - pa[1]) <= 10 * tol) {
+            /* a sliver between two nearly meeting lines of the other kind:
+             * the first drawn stays */
+            s = cp->e[keep].assign;
+        }
         if (!s) {
             const double *p = cp->v[k[i].a].x, *q = cp->v[k[i].b].x;
             rc = FAILC("%s%sa line from (%g, %g) to (%g, %g) is drawn twice, as %s and as %s",
@@ -374,14 +382,14 @@ int sf_cp_planarize(sf_cpattern *cp, double tol, const char *where, sf_error *er
         cp->nf = 0;
     }
     int rc = merge_vertices(cp, tol, err);
-    if (!rc) rc = dedupe(cp, where, err);
+    if (!rc) rc = dedupe(cp, tol, where, err);
     if (!rc) rc = split_edges(cp, tol, err);
     if (!rc) rc = merge_vertices(cp, tol, err);
-    if (!rc) rc = dedupe(cp, where, err);
+    if (!rc) rc = dedupe(cp, tol, where, err);
     /* a split can leave a vertex within tol of a third edge: once more */
     if (!rc) rc = split_edges(cp, tol, err);
     if (!rc) rc = merge_vertices(cp, tol, err);
-    if (!rc) rc = dedupe(cp, where, err);
+    if (!rc) rc = dedupe(cp, tol, where, err);
     return rc;
 }
 

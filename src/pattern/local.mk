@@ -7,7 +7,7 @@ src_libsmoothfold_a_SOURCES += src/pattern/pattern.h \
 	src/pattern/study.c src/pattern/study.h src/pattern/study_impl.h \
 	src/pattern/study_util.c src/pattern/study_paths.c src/pattern/study_set.c \
 	src/pattern/study_check.c src/pattern/study_fill.c src/pattern/study_write.c \
-	src/pattern/study_access.c \
+	src/pattern/study_access.c src/pattern/study_include.c \
 	src/pattern/topology.c src/pattern/topology.h src/pattern/topology_impl.h \
 	src/pattern/topology_geom.c src/pattern/topology_check.c src/pattern/topology_bodies.c \
 	src/pattern/topology_grid.c \
