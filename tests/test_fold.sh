@@ -1,13 +1,13 @@
 #!/bin/sh
 # test_fold.sh - `smoothfold import` and `export` through the program:
 # the FOLD files of tests/fold/ import, check and run (two commands);
-# every broken file in tests/bad/fold_*.fold fails with one line naming the
-# file and the JSON location (fold_*.expect: the text after "FILE:" or
+# every broken file in tests/bad/fold_*.fold and svg_*.svg fails with one
+# line naming the file and the location (*.expect: the text after "FILE:" or
 # "FILE: "), a non-zero status and nothing written; export writes FOLD for
 # every study.  Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 . "$src/tests/tap.sh"
-nbad=$(ls "$src"/tests/bad/fold_*.fold | wc -l)
+nbad=$(ls "$src"/tests/bad/fold_*.fold "$src"/tests/bad/svg_*.svg | wc -l)
 ngood=$(ls "$src"/tests/fold/*.fold | wc -l)
 echo "1..$((nbad + 2 * ngood + 5))"
 for f in "$src"/tests/fold/*.fold; do
@@ -19,8 +19,8 @@ for f in "$src"/tests/fold/*.fold; do
         ok "run the imported $b"
     else nok "run the imported $b"; sed 's/^/#   /' "$tmp/err"; fi
 done
-for f in "$src"/tests/bad/fold_*.fold; do
-    b=$(basename "$f" .fold)
+for f in "$src"/tests/bad/fold_*.fold "$src"/tests/bad/svg_*.svg; do
+    b=$(basename "$f" | sed 's/\.[a-z]*$//')
     text=$(sed -n 1p "$src/tests/bad/$b.expect")
     out=$("$bin" import "$f" -o "$tmp/bad.cfg" 2>&1 >/dev/null); rc=$?
     n=$(printf '%s\n' "$out" | wc -l)
