@@ -251,6 +251,7 @@ static int pair_cuts(sf_cpattern *cp, int e, int f, double tol, cuts *cs)
 
 static int split_edges(sf_cpattern *cp, double tol, sf_error *err)
 {
+    if (cp->ne < 2) return SF_OK;
     grid g;
     cuts cs = {0};
     int rc = grid_build(&g, cp, tol);
@@ -376,6 +377,13 @@ static int dedupe(sf_cpattern *cp, double tol, const char *where, sf_error *err)
 
 int sf_cp_planarize(sf_cpattern *cp, double tol, const char *where, sf_error *err)
 {
+    /* the grid's cells count in ints: coordinates whose differences
+     * overflow have no cells */
+    for (int i = 0; i < cp->nv; i++)
+        if (!(fabs(cp->v[i].x[0]) < 1e150 && fabs(cp->v[i].x[1]) < 1e150))
+            return FAILC("%s%svertex at (%g, %g): coordinates beyond 1e150", where ? where : "",
+                         where ? ": " : "", cp->v[i].x[0], cp->v[i].x[1]);
+    if (!(tol >= 0) || !isfinite(tol)) return FAILC("%s%sno finite merge tolerance", where ? where : "", where ? ": " : "");
     if (cp->nf) {   /* faces no longer match the edges */
         free(cp->face_start); free(cp->face_verts);
         cp->face_start = cp->face_verts = NULL;

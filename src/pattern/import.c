@@ -78,8 +78,10 @@ int sf_import_read(const char *path, const sf_import_opts *o, sf_cpattern *cp,
     bbox(cp, lo, hi);
     double span = cp->nv ? fmax(hi[0] - lo[0], hi[1] - lo[1]) : 0;
     if (!(span > 0) || !isfinite(span)) {
+        int nv = cp->nv;
         sf_cp_free(cp);
-        return sf_fail(err, SF_EINPUT, "%s: the pattern has no extent (%d vertices, all at one point)", path, cp->nv);
+        return nv ? sf_fail(err, SF_EINPUT, "%s: the pattern has no finite extent (%d vertices)", path, nv)
+                  : sf_fail(err, SF_EINPUT, "%s: no lines", path);
     }
     if (!svg && o->planarize) {
         char w[1100];

@@ -65,7 +65,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         /* the study for one input in eight (by its length: the same input
          * always takes the same path) of moderate size: writing and reading
          * the study back costs five times the reading */
-        if ((size & 7) == 0 && cp.ne <= 400) {
+        if ((size & 7) == 0 && cp.ne <= 100) {
             sf_cp_study_opts so;
             sf_cp_study_opts_default(&so);
             sf_error_clear(&err);

@@ -49,8 +49,8 @@ for t in $targets; do
     i=$((i + 1))
     case $t in
         study) main="$src/tests/fuzz/fuzz_study.c"; def=""; maxlen=16384;;
-        fold)  main="$src/tests/fuzz/fuzz_import.c"; def="-DSF_FUZZ_SVG=0"; maxlen=65536;;
-        svg)   main="$src/tests/fuzz/fuzz_import.c"; def="-DSF_FUZZ_SVG=1"; maxlen=65536;;
+        fold)  main="$src/tests/fuzz/fuzz_import.c"; def="-DSF_FUZZ_SVG=0"; maxlen=16384;;
+        svg)   main="$src/tests/fuzz/fuzz_import.c"; def="-DSF_FUZZ_SVG=1"; maxlen=16384;;
         *) echo "not ok $i - unknown fuzz target '$t' (study, fold, svg)"; continue;;
     esac
     exe="$work/fuzz_$t"
@@ -64,9 +64,9 @@ for t in $targets; do
     mkdir -p "$seeds" "$corpus"
     case $t in
         study) cp "$src"/studies/*.cfg "$src"/tests/bad/*.cfg "$seeds/";;
-        fold)  find "$src/tests/fold" "$src/tests/bad" "$src/tests/public" -name '*.fold' -size -64k \
+        fold)  find "$src/tests/fold" "$src/tests/bad" "$src/tests/public" -name '*.fold' -size -16k \
                    -exec sh -c 'cp "$1" "$2/$(echo "$1" | md5sum | cut -c1-12).fold"' _ {} "$seeds" \; 2>/dev/null;;
-        svg)   find "$src/tests/bad" "$src/tests/public" -name '*.svg' -size -64k \
+        svg)   find "$src/tests/bad" "$src/tests/public" -name '*.svg' -size -16k \
                    -exec sh -c 'cp "$1" "$2/$(echo "$1" | md5sum | cut -c1-12).svg"' _ {} "$seeds" \; 2>/dev/null;;
     esac
     log="$work/fuzz-$t.log"
