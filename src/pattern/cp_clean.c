@@ -5,7 +5,9 @@
  * Drawings (SVG) are segments whose ends nearly meet, that cross without a
  * vertex, that end on another segment's middle or lie on top of each
  * other.  sf_cp_planarize turns them into a planar straight-line graph:
- *   1. vertices closer than tol merged (to the first of them, in file order);
+ *   1. vertices closer than tol merged (to the last of them: a crossing
+ *      point, exact where two lines meet, is appended after the drawn
+ *      ends, which meet only nearly);
  *   2. every edge split where another edge crosses it or where a vertex
  *      lies within tol of it (a T-junction, or an overlapping collinear
  *      edge's end), the new vertices merged as in 1;
@@ -121,7 +123,7 @@ static int key_cmp(const void *pa, const void *pb)
     return (a->i > b->i) - (a->i < b->i);
 }
 
-/* Vertices within tol of an earlier one take its place; edges renumbered,
+/* Vertices within tol of a later one take its place; edges renumbered,
  * unused vertices dropped.  Sweep over x. */
 static int merge_vertices(sf_cpattern *cp, double tol, sf_error *err)
 {
@@ -141,8 +143,8 @@ static int merge_vertices(sf_cpattern *cp, double tol, sf_error *err)
             int i = k[s].i, j = k[t].i;
             if (hypot(cp->v[i].x[0] - cp->v[j].x[0], cp->v[i].x[1] - cp->v[j].x[1]) > tol) continue;
             int ri = find(par, i), rj = find(par, j);
-            if (ri < rj) par[rj] = ri;
-            else if (rj < ri) par[ri] = rj;
+            if (ri > rj) par[rj] = ri;   /* the later one stays: a crossing */
+            else if (rj > ri) par[ri] = rj;   /* point is appended after the ends */
         }
     for (int e = 0; e < cp->ne; e++) {
         cp->e[e].a = find(par, cp->e[e].a);
