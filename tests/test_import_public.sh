@@ -9,7 +9,8 @@
 # side, is the file's mountain, valley and unassigned edges' (joining
 # collinear edges into one band keeps it), and every F edge is a facet.
 # SVG: the round trip SVG -> FOLD -> study gives the same folds, with the
-# same assignments, and the same facet edges as SVG -> study.  TAP.
+# same assignments, and the same facet edges as SVG -> study; FOLD: the
+# study exported and imported again has them too.  TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 . "$src/tests/tap.sh"
 man="$src/tests/public/manifest.tsv"
@@ -17,7 +18,7 @@ py=$(command -v python3)
 n=$(grep -vc '^#' "$man")
 nsvg=$(grep -v '^#' "$man" | awk -F'\t' '$1 ~ /\.svg$/ && $3 == "ok"' | wc -l)
 nfold=$(grep -v '^#' "$man" | awk -F'\t' '$1 ~ /\.fold(\.gz)?$/ && $3 == "ok" && $2 == "-"' | wc -l)
-echo "1..$((n + nsvg + nfold + 2))"
+echo "1..$((n + nsvg + 2 * nfold + 2))"
 grep -v '^#' "$man" | while IFS='	' read -r file opts want; do
     f="$src/tests/public/$file"
     case $file in *.gz) g="$tmp/$(basename "$file" .gz)"; gzip -dc "$f" > "$g"; f=$g;; esac
@@ -55,7 +56,15 @@ grep -v '^#' "$man" | while IFS='	' read -r file opts want; do
         if "$py" -c "import sys; a=float(sys.argv[1])/float(sys.argv[2]); b=float(sys.argv[3])/float(sys.argv[4]); sys.exit(abs(a-b) > 1e-9*b)" \
                 "$slen" "$side" "$flen" "$fspan" && [ "$nfac" -eq "$nf" ]; then
             ok "$file: fold length $slen m on a $side m sheet, as the file's ($flen on $fspan); $nfac facet edges = its F edges"
-        else nok "$file: fold length $slen on $side (file: $flen on $fspan), facets $nfac (file F: $nf)"; fi;;
+        else nok "$file: fold length $slen on $side (file: $flen on $fspan), facets $nfac (file F: $nf)"; fi
+        # the study's crease pattern through export and import again:
+        # the same folds and facet edges (folds split at the facets' ends
+        # on them in FOLD, joined again)
+        if "$bin" export "$tmp/$b.cfg" -o "$tmp/$b.ex.fold" 2>"$tmp/err" &&
+           "$bin" import "$tmp/$b.ex.fold" -o "$tmp/$b.ex.cfg" >/dev/null 2>>"$tmp/err" &&
+           r=$("$py" "$src/tests/public_check.py" same "$tmp/$b.cfg" "$tmp/$b.ex.cfg" 2e-10 2>&1); then
+            ok "$file: study -> export -> import has the same $r"
+        else nok "$file: study -> export -> import: $r"; sed 's/^/#   /' "$tmp/err" | head -3; fi;;
     esac
 done
 # units and the fold percent
