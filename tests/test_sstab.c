@@ -124,9 +124,10 @@ static void test_ldlt_heap_kept(void **state)
     CHECK_LE((double)after, 0.1 * (double)pages, "faults of a reused 64 MB block");
     sf_ldlt_free(f);
 #else
-    printf("# skipped: %s\n", SF_TEST_ASAN ? "AddressSanitizer's allocator replaces glibc's malloc (no mallopt, "
+    /* not skip(): cmocka writes a skipped test as "not ok # SKIP", which
+     * automake's TAP driver counts as a failure */
+    printf("# not measured: %s\n", SF_TEST_ASAN ? "AddressSanitizer's allocator replaces glibc's malloc (no mallopt, "
            "freed blocks quarantined): glibc's heap reuse cannot be measured" : "not glibc");
-    skip();
 #endif
 }
 
