@@ -286,7 +286,7 @@ static int split_edges(sf_cpattern *cp, double tol, sf_error *err)
     free(seen);
     free(list);
     if (rc) { free(cs.c); return sf_fail(err, SF_ENOMEM, "out of memory"); }
-    qsort(cs.c, (size_t)cs.n, sizeof *cs.c, cut_cmp);
+    if (cs.n) qsort(cs.c, (size_t)cs.n, sizeof *cs.c, cut_cmp);   /* cs.c is NULL without cuts */
     for (int i = 0; i < cs.n;) {
         int e = cs.c[i].e, j = i;
         while (j < cs.n && cs.c[j].e == e) j++;
