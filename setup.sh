@@ -13,4 +13,4 @@ autoreconf -fi
 make -j2
 ./src/smoothfold run studies/strip3.cfg -o out/strip3
 ./src/smoothfold plot out/strip3
-echo "setup.sh: built src/smoothfold; default study results in out/strip3/ (see docs/output-format.md)"
+echo "setup.sh: built src/smoothfold; default study results in out/strip3/ (see docs/reference/output-files.md)"

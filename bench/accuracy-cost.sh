@@ -21,7 +21,7 @@
 # analysis and comparison off: they are not what the knobs trade), the best of N runs (the machine is shared: the minimum is
 # the least disturbed); the table adds the path's own solver time (sum of
 # stats.csv wall_s, also best of N).
-# Writes docs/accuracy-cost.md (tables) and docs/img/accuracy-cost.png
+# Writes docs/guides/accuracy-cost.md (tables) and docs/img/accuracy-cost.png
 # (gnuplot, log-log).  Not part of make check; takes about two minutes.
 # On a machine shared with other jobs, differences of a few ms between fold1
 # or strip3 settings are noise.
@@ -106,14 +106,14 @@ knobs square4 4 "1 2 3 4 5 6"
 version=$("$bin" --version | head -1)
 host=$(uname -srm)
 cpu=$(awk -F': ' '/model name/ { print $2; exit }' /proc/cpuinfo 2>/dev/null)
-out=$src/docs/accuracy-cost.md
+out=$src/docs/guides/accuracy-cost.md
 {
     echo "# Accuracy against cost"
     echo
     echo "Written by \`bench/accuracy-cost.sh\` ($version; $host${cpu:+, $cpu}; best of $n runs)."
     echo "Do not edit by hand: rerun the script. Conclusions: [accuracy.md](accuracy.md)."
     echo
-    echo "![error against wall time, one curve per knob](img/accuracy-cost.png)"
+    echo "![error against wall time, one curve per knob](../img/accuracy-cost.png)"
     echo
     echo "Each knob is varied alone from a base setting (fold1: K = 6; strip3: K = 4;"
     echo "square4: K = 4; otherwise the study's own settings: 24 Gauss points, its"
@@ -193,4 +193,4 @@ unset multiplot
 GP
 gnuplot "$tmp/plot.gp"
 mv "$src/docs/img/accuracy-cost.png.tmp" "$src/docs/img/accuracy-cost.png"
-echo "docs/accuracy-cost.md, docs/img/accuracy-cost.png written"
+echo "docs/guides/accuracy-cost.md, docs/img/accuracy-cost.png written"

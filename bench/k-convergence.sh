@@ -3,13 +3,13 @@
 # ../shared/data/fold1_elastica.csv) for K = 0..8 shape modes, and the
 # quadrature order each K needs; K = 0 against the closed-form circular-arc
 # model (tests/fold1_arc.awk).  Rewrites the block between the
-# "k-convergence" markers of docs/accuracy.md.  Takes a few seconds.
+# "k-convergence" markers of docs/guides/accuracy.md.  Takes a few seconds.
 # usage: bench/k-convergence.sh [BUILDDIR]
 set -e
 src=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$src}
 bin=$build/src/smoothfold
-doc=$src/docs/accuracy.md
+doc=$src/docs/guides/accuracy.md
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 study=$src/studies/fold1.cfg
@@ -89,4 +89,4 @@ if [ -f "$doc" ] && grep -q '^<!-- k-convergence end -->' "$doc"; then
 else
     cat "$tmp/block.md"
 fi
-echo "docs/accuracy.md: k-convergence block written"
+echo "docs/guides/accuracy.md: k-convergence block written"

@@ -3,7 +3,7 @@
 # closure: the end point of a study's path with the penalty weights
 # (solver.penalty_rotation = 100 J, solver.penalty_translation = 1 J/m^2,
 # the paper's) multiplied by 10^0 .. 10^8, against the exact path's
-# (docs/flatstart.md).  Not part of make check.
+# (docs/design/start.md).  Not part of make check.
 #
 #   sh bench/penalty-limit.sh [BUILD_DIR] [STUDY ...]    (default: miura-2x2 square4)
 #

@@ -482,6 +482,13 @@ int cont_set_newton_steptol(cont_solver *s, double xtol)
     return CONT_OK;
 }
 
+int cont_set_point_inertia(cont_solver *s, int on)
+{
+    NEED(s);
+    s->point_inertia = on != 0;
+    return CONT_OK;
+}
+
 int cont_set_corrector(cont_solver *s, int kind)
 {
     NEED(s);
@@ -579,6 +586,19 @@ const char *cont_stop_name(int reason)
 const char *cont_errmsg(const cont_solver *s) { return s ? s->msg : "no solver"; }
 
 int cont_get_linsol(const cont_solver *s) { return s ? s->linsol : 0; }
+
+int cont_get_factor_stats(const cont_solver *s, cont_factor_stats *fs)
+{
+    memset(fs, 0, sizeof *fs);
+    if (!s || !s->bt.mumps || s->bt.gen == 0) return -1;
+    if (s->bt.blk_active) {
+        ci_blk_factor_stats(&s->bt, fs);
+        fs->ldlt = 1;
+    } else {
+        cont_mumps_factor_stats(s->bt.LS, fs);
+    }
+    return fs->entries > 0 ? 0 : -1;
+}
 
 double cont_get_ds(const cont_solver *s) { return s ? s->ds : 0.0; }
 

@@ -326,6 +326,10 @@ typedef struct cont_point {
     int det_sign;        /* sign of det [Jy Fp; (W t)^T], 0 if unavailable */
     double log_abs_det;  /* log |det [Jy Fp; (W t)^T]| */
     const double *test; /* ntest user test values (NULL when ntest == 0) */
+    int jy_inertia;      /* 1: jy_neg and jy_null hold the inertia of Jy at this point
+                            (cont_set_point_inertia), 0: not known */
+    long jy_neg;         /* negative pivots of the LDL^T of Jy (its negative eigenvalues) */
+    long jy_null;        /* pivots MUMPS found null */
 } cont_point;
 
 /* Nonzero return value asks the engine to stop (cont_step -> CONT_DONE). */
@@ -440,6 +444,15 @@ int cont_set_newton_steptol(cont_solver *s, double xtol);
  * one. */
 enum { CONT_CORRECTOR_NEWTON = 0, CONT_CORRECTOR_REUSE = 1 };
 int cont_set_corrector(cont_solver *s, int kind);
+
+/* on = 1: every corrected point is evaluated with a factorisation of its
+ * own tangent matrix (instead of the corrector's last factors refined),
+ * and where that is the LDL^T of a symmetric Jy (cont_problem.jac_symmetric,
+ * MUMPS, block elimination) its inertia is delivered with the point
+ * (cont_point.jy_inertia, jy_neg, jy_null): one factorisation a point
+ * serves the tangent, the determinant sign and a caller's stability test
+ * (src/analysis/stability.c).  Default 0. */
+int cont_set_point_inertia(cont_solver *s, int on);
 int cont_get_corrector(const cont_solver *s);
 /* the fixed-p solves of cont_solve_fixed / cont_start: default 50 iterations,
  * KIN_LINESEARCH.  With CONT_CORRECTOR_REUSE they first run the engine's
@@ -502,6 +515,20 @@ const char *cont_stop_name(int reason);
 const char *cont_errmsg(const cont_solver *s);
 /* The linear solver in use (CONT_LINSOL_DENSE, _KLU or _MUMPS). */
 int cont_get_linsol(const cont_solver *s);
+
+/* What the last factorisation of the tangent/corrector matrix cost, as
+ * MUMPS reports it: the matrix factorised (n: Jy alone for its LDL^T,
+ * ldlt = 1, or the whole bordered matrix for the LU), the entries of its
+ * factors (INFOG(29)), its floating-point operations (RINFOG(3)) and the
+ * pivots it delayed (INFOG(13)).  0, or -1 when there is none (not
+ * factorised yet, or not by MUMPS). */
+typedef struct cont_factor_stats {
+    long n;
+    int ldlt;
+    double entries, flops;
+    long delayed;
+} cont_factor_stats;
+int cont_get_factor_stats(const cont_solver *s, cont_factor_stats *fs);
 /* Step size the next step will try. */
 double cont_get_ds(const cont_solver *s);
 /* Set the step size the next step will try (clamped to [ds_min, ds_max]),

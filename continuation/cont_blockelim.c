@@ -276,6 +276,16 @@ int ci_blk_factor(cont_solver *s, cont_bmat *bm)
     return 0;
 }
 
+void ci_blk_factor_stats(const cont_bmat *bm, cont_factor_stats *fs)
+{
+    cont_mumps_factor_stats(bm->blk->LS, fs);
+}
+
+void ci_blk_inertia(const cont_bmat *bm, long *neg, long *nnull)
+{
+    cont_mumps_inertia(bm->blk->LS, neg, nnull);
+}
+
 int ci_blk_det(const cont_bmat *bm, int *sign, double *logdet)
 {
     if (sign) *sign = bm->blk->sign;

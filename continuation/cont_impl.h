@@ -112,6 +112,7 @@ struct cont_solver {
     /* the reusing corrector (cont_corrector.c): the factors it left in
      * s->bt, made at an iterate near its solution with border rc */
     int corrector;           /* CONT_CORRECTOR_* */
+    int point_inertia;       /* cont_set_point_inertia */
     double *rc;              /* m */
     double *rw;              /* work, 2m */
     long rgen;               /* s->bt.gen of those factors, -1: none */
@@ -205,6 +206,8 @@ void ci_bm_apply(const cont_solver *s, const double *c, const double *v, double 
 int ci_bm_det(cont_solver *s, cont_bmat *bm, int *sign, double *logdet);
 int ci_bm_factor(cont_solver *s, cont_bmat *bm, int *sign, double *logdet);
 void ci_bm_free(cont_bmat *bm);
+void ci_blk_factor_stats(const cont_bmat *bm, cont_factor_stats *fs);
+void ci_blk_inertia(const cont_bmat *bm, long *neg, long *nnull);
 int ci_bm_init(cont_solver *s, cont_bmat *bm, long m, int linsol,
                sunindextype nnz, N_Vector tmpl);
 int ci_bm_solve(cont_solver *s, cont_bmat *bm, N_Vector x, N_Vector b);

@@ -303,6 +303,23 @@ int cont_mumps_det(SUNLinearSolver S, int *sign, double *logabs)
     return 0;
 }
 
+void cont_mumps_factor_stats(SUNLinearSolver S, cont_factor_stats *fs)
+{
+    const mumps_content *c = CONTENT(S);
+    fs->n = c->m;
+    fs->entries = c->factored ? (double)c->id.INFOG(29) : 0.0;
+    if (fs->entries < 0) fs->entries = -1e6 * fs->entries;   /* MUMPS: negative = millions */
+    fs->flops = c->factored ? c->id.RINFOG(3) : 0.0;
+    fs->delayed = c->factored ? c->id.INFOG(13) : 0;
+}
+
+void cont_mumps_inertia(SUNLinearSolver S, long *neg, long *nnull)
+{
+    const mumps_content *c = CONTENT(S);
+    *neg = c->factored && c->sym ? (long)c->id.INFOG(12) : -1;
+    *nnull = c->factored && c->sym ? (long)c->id.INFOG(28) : -1;
+}
+
 void cont_mumps_counts(SUNLinearSolver S, long *analyses, long *factors, long *relax)
 {
     const mumps_content *c = CONTENT(S);

@@ -24,6 +24,8 @@
 #include <sundials/sundials_matrix.h>
 #include <sundials/sundials_nvector.h>
 
+#include "cont.h"
+
 /* A solver for the m x m CSC matrix A (m = length of y).  NULL on failure
  * (wrong matrix type, out of memory, MUMPS initialisation failed). */
 SUNLinearSolver cont_mumps(N_Vector y, SUNMatrix A, SUNContext ctx);
@@ -55,6 +57,14 @@ void cont_mumps_keep_heap(void);
  * its threaded orderings differ from run to run, and with them the
  * rounding of every factorisation.  Called where cont_mumps_keep_heap is. */
 void cont_mumps_single_thread(void);
+
+/* The last factorisation's figures (cont.h, cont_factor_stats; ldlt is
+ * left as it is); zeros without factors. */
+void cont_mumps_factor_stats(SUNLinearSolver S, cont_factor_stats *fs);
+
+/* After a setup of a cont_mumps_sym solver: the negative pivots
+ * (INFOG(12)) and the null ones (INFOG(28)); -1 each without factors. */
+void cont_mumps_inertia(SUNLinearSolver S, long *neg, long *nnull);
 
 /* Counters since creation: analyses, factorisations, workspace relaxations;
  * MUMPS's own timings are not used (none of these may be NULL). */

@@ -19,11 +19,19 @@ int ci_eval_point(cont_solver *s, cpt *q, const double *c, int dir, int keep_t)
     if (ci_call_jacobian(s, q->x, q->x[n]) != 0) return -1;
     int sg = 0;
     double ld = 0.0;
-    /* the corrector's last factors, refined, or a factorisation here */
-    int fr = -1, reused = !keep_t && ci_tangent_reuse(s, c, &sg, &ld) == 0;
+    /* the corrector's last factors, refined, or a factorisation here
+     * (always with cont_set_point_inertia: its inertia goes with the point) */
+    int fr = -1, reused = 0;
+    q->pub.jy_inertia = 0;
+    if (s->point_inertia) s->rgen = -1;
+    else reused = !keep_t && ci_tangent_reuse(s, c, &sg, &ld) == 0;
     if (!reused) {
         if (ci_bm_build(s, &s->bt, c) != 0) return -1;
         fr = ci_bm_factor(s, &s->bt, &sg, &ld);
+        if (fr == 0 && s->point_inertia && s->bt.blk_active) {
+            ci_blk_inertia(&s->bt, &q->pub.jy_neg, &q->pub.jy_null);
+            q->pub.jy_inertia = q->pub.jy_neg >= 0;
+        }
     }
     if (keep_t) {
         q->det_valid = fr == 0;

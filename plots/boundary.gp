@@ -6,7 +6,7 @@
 # against the path parameter p (y), the curve of limit points (LP) or branch
 # points (BP), the regions it separates shaded, cusps (CP) and the start
 # point (SP, the special point of the path) labelled.
-# Shading (docs/bifurcation.md):
+# Shading (docs/guides/stability.md):
 #   BP curve, or LP curve without a cusp: the side of the curve where the
 #     path started (header "start_side") is where the followed state is as
 #     at the start (stable when "start_morse" is 0); the other side is

@@ -1,5 +1,5 @@
 #!/bin/sh
-# pattern-pictures.sh - the pictures of docs/patterns.md: each generated
+# pattern-pictures.sh - the pictures of docs/guides/patterns.md: each generated
 # study of studies/ run to the end of its actuation path, its last shape
 # drawn with plots/shape.gp.
 #   plots/pattern-pictures.sh BUILDDIR        (from the source directory)

@@ -1,6 +1,6 @@
 # the rigid-origami limit (closed form of the flat-foldable degree-4
 # vertex along a Miura actuation path) and symmetric states of symmetric
-# sheets (docs/crease-limit.md)
+# sheets (docs/design/crease-limit.md)
 check_PROGRAMS += tests/test_creaselimit
 TESTS += tests/test_creaselimit
 tests_test_creaselimit_SOURCES = tests/test_creaselimit.c

@@ -8,4 +8,4 @@ tests_test_dynamics_LDADD = $(SF_TEST_LIBS)
 TESTS += tests/test_run_dynamics.sh
 EXTRA_DIST += tests/test_run_dynamics.sh
 EXTRA_DIST += tests/bad/study_group_schedule.cfg tests/bad/study_group_schedule.expect
-EXTRA_DIST += studies/snap1-dynamics.cfg studies/selffold3-dynamics.cfg docs/dynamics.md
+EXTRA_DIST += studies/snap1-dynamics.cfg studies/selffold3-dynamics.cfg docs/guides/dynamics.md

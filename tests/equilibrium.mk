@@ -22,14 +22,14 @@ tests_test_sstab_SOURCES = tests/test_sstab.c
 tests_test_sstab_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_sstab_LDADD = $(SF_TEST_LIBS)
 
-# the cost rules of the bounded effort (docs/stability.md, "Cost"), against closed forms
+# the cost rules of the bounded effort (docs/design/linear-algebra.md, "Cost"), against closed forms
 check_PROGRAMS += tests/test_sstab_cost
 TESTS += tests/test_sstab_cost
 tests_test_sstab_cost_SOURCES = tests/test_sstab_cost.c
 tests_test_sstab_cost_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_sstab_cost_LDADD = $(SF_TEST_LIBS)
 
-# the rank-revealing QR of the constraint rows factorises C^T alone (docs/stability.md, "Cost")
+# the rank-revealing QR of the constraint rows factorises C^T alone (docs/design/linear-algebra.md, "Cost")
 check_PROGRAMS += tests/test_sstab_qr
 TESTS += tests/test_sstab_qr
 tests_test_sstab_qr_SOURCES = tests/test_sstab_qr.c

@@ -38,10 +38,13 @@ include tests/accuracy.mk
 include tests/cli.mk
 include tests/bifurcation.mk
 include tests/pattern.mk
+include tests/bending.mk
 include tests/boundary.mk
 include tests/multibp.mk
 include tests/creaselimit.mk
-# sweeps, serially and under mpirun (src/analysis/sweep.h, docs/sweep.md)
+include tests/validity.mk
+include tests/docs.mk
+# sweeps, serially and under mpirun (src/analysis/sweep.h, docs/guides/sweeps.md)
 check_PROGRAMS += tests/test_sweep_plan
 TESTS += tests/test_sweep_plan tests/test_sweep.sh
 tests_test_sweep_plan_SOURCES = tests/test_sweep_plan.c

@@ -9,6 +9,9 @@ EXTRA_DIST += tests/test_reactions.sh tests/test_run_exact.sh tests/studies/deg4
 # exact closure from the flat state: the tangent cone (docs/flatstart.md)
 TESTS += tests/test_flatstart.sh
 EXTRA_DIST += tests/test_flatstart.sh
+# the start by the method of multipliers (docs/design/start.md)
+TESTS += tests/test_start.sh
+EXTRA_DIST += tests/test_start.sh
 # the sparse start at the flat state for face poses (docs/flatstart.md)
 TESTS += tests/test_flatstart_sparse.sh tests/test_loadpath.sh
 EXTRA_DIST += tests/test_flatstart_sparse.sh tests/test_loadpath.sh

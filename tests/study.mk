@@ -8,7 +8,7 @@ tests_test_study_set_SOURCES = tests/test_study_set.c tests/study_test.h
 tests_test_study_set_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_study_set_LDADD = $(SF_TEST_LIBS)
 # studies, broken studies and the manual read by the test (from SF_SRCDIR)
-EXTRA_DIST += docs/study-format.md \
+EXTRA_DIST += docs/reference/study-keys.md \
 	studies/fold1.cfg \
 	studies/square4-corner.cfg \
 	studies/square4-irregular.cfg \

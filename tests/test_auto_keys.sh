@@ -1,7 +1,7 @@
 #!/bin/sh
 # test_auto_keys.sh - the defaults "auto" of solver.formulation,
 # analysis.flat_start and analysis.step_norm (src/cli/run_equilibrium.c,
-# choose_keys; docs/study-format.md, "Large sheets"): up to
+# choose_keys; docs/reference/study-keys.md, "Large sheets"): up to
 # solver.auto_unknowns unknowns in fold coordinates (default 300) the
 # choices before "auto" ("folds", "limit", "sum"), above it, with none of
 # the three keys set, "poses", "sparse", "rms", said in one header line.
@@ -31,7 +31,7 @@
 #     threshold) follows the degenerate ray of the straight fold lines to
 #     p = 1 (exit 0, no second run, folds/limit/sum in study.cfg) and ends
 #     where the sparse pose start's run ends (tip uz to 1e-7 m, fold angles
-#     to 5e-6 rad; docs/flatstart.md, "Limits");
+#     to 5e-6 rad; docs/design/start.md, "Limits");
 # 10: a sheet whose fold start finds no first point (pattern miura
 #     --cells=3x2 --gravity --load=0.01, rest angles 0): the run goes again
 #     with the sparse pose start and reaches the end of its path, p = 2
@@ -105,7 +105,7 @@ check $r "flat_start = \"sparse\" alone: one line, before any point, naming the 
 # 6: unknown values
 r=1
 for c in "$F|x|must be \"auto\", \"folds\" or \"poses\" (got \"x\")" \
-         "$S|x|must be \"auto\", \"limit\", \"direct\" or \"sparse\" (got \"x\")" \
+         "$S|x|must be \"auto\", \"limit\", \"direct\", \"sparse\" or \"multipliers\" (got \"x\")" \
          "$N|x|must be \"auto\", \"sum\" or \"rms\" (got \"x\")"; do
     key=${c%%|*}; rest=${c#*|}; val=${rest%%|*}; msg=${rest#*|}
     a=$(run bad --set "$key=\"$val\"")

@@ -1,6 +1,6 @@
 #!/bin/sh
 # test_boundary_runs.sh - two-parameter continuation (analysis.type = "boundary",
-# docs/bifurcation.md) against closed forms.
+# docs/guides/stability.md) against closed forms.
 #  - fold1-buckle-boundary: the branch point of the flat strip over the fold
 #    width, p_cr(w) = D L / (w (0.03 - w/6)) / 1.5 (studies/
 #    fold1-buckle-boundary.cfg), at every point, to 1e-8 relative.

@@ -1,5 +1,5 @@
 /* test_check_cost.c - the work of `smoothfold check`'s mobility analysis
- * grows linearly with the folds (docs/output-format.md, "smoothfold check"):
+ * grows linearly with the folds (docs/reference/output-files.md, "smoothfold check"):
  *  - sf_kin_eval_folds gives the listed folds the same folding maps and
  *    derivatives as sf_kin_eval (bitwise), leaves every other fold as it
  *    was, and a vertex's loop rows from it are those of the whole sheet's

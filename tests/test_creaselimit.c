@@ -1,5 +1,5 @@
 /* test_creaselimit.c - the rigid-origami limit of smooth folds and the
- * symmetry of symmetric sheets (issue 12; docs/crease-limit.md):
+ * symmetry of symmetric sheets (issue 12; docs/design/crease-limit.md):
  *  - the closed form of a flat-foldable degree-4 vertex (sector angles
  *    alpha, beta, pi - alpha, pi - beta; Tachi 2009, Evans et al. 2015),
  *    checked first by the product of its four rotations (it must be I);
@@ -66,7 +66,7 @@ static double loop_residual(int n, const double *phi, const double *rho)
     return r;
 }
 
-/* The closed form (docs/crease-limit.md): sectors alpha (e1 -> e2), beta
+/* The closed form (docs/design/crease-limit.md): sectors alpha (e1 -> e2), beta
  * (e2 -> e3), pi - alpha, pi - beta.  Mode "II": rho3 = -rho1, rho4 = rho2,
  * tan(rho1/2) = sin((alpha - beta)/2) / sin((alpha + beta)/2) tan(rho2/2). */
 static double ratio2(double a, double b) { return sin(0.5 * (a - b)) / sin(0.5 * (a + b)); }

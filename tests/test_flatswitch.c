@@ -1,5 +1,5 @@
 /* test_flatswitch.c - branch switching at the flat state with exact loop
- * closure (flatswitch.h, docs/bifurcation.md), on square4-inplane with
+ * closure (flatswitch.h, docs/guides/stability.md), on square4-inplane with
  * solver.constraints = "exact".
  *
  * Independent values:
@@ -131,7 +131,7 @@ static void test_square4(void **state)
      * Newton tolerance 1e-13 f: the scaled residual holds f times the
      * rounding of the loop residuals.  Which branch is lowest depends on
      * the orbits the 400 starts find: the 2-ray orbit at p* = 0.31145
-     * (docs/bifurcation.md), whose distances fall by 10 per decade from
+     * (docs/guides/stability.md), whose distances fall by 10 per decade from
      * f = 10^5, or, where the starts miss it (seen on an AVX-512
      * machine), the 4-ray one at 0.31385, whose 1/f regime begins near
      * 10^7 (2.6e-3, 8.2e-4, 1.6e-4, 1.8e-5 at 10^5..10^8); so the

@@ -1,5 +1,5 @@
 /* test_multibp.c - branch switching at the double branch point of the flat
- * square4-inplane sheet (multibp.h, docs/bifurcation.md).
+ * square4-inplane sheet (multibp.h, docs/guides/stability.md).
  *
  * Independent values: the symmetry group of the square, D4 (8 elements),
  * built here from the study's geometry as permutations of its folds.  The

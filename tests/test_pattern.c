@@ -308,6 +308,93 @@ static void test_waterbomb(void **state)
         }
 }
 
+/* Square twist: 4 interior vertices, each flat-foldable (Maekawa, Kawasaki)
+ * with sectors 90, 90 + angle, 90, 90 - angle degrees, the creases around
+ * the small sector of opposite kinds (big-little-big); 8 valleys (the
+ * square and one crease per pleat), 4 mountains; 9 faces' worth of area. */
+static void test_twist(void **state)
+{
+    (void)state;
+    for (int t = 0; t < 3; t++) {
+        double angle[3] = {10, 22.5, 35};
+        sf_gen_opts o;
+        sf_cpattern cp;
+        sf_error e;
+        sf_error_clear(&e);
+        assert_int_equal(sf_gen_defaults("twist", &o, &e), SF_OK);
+        o.angle = angle[t];
+        CHECK_OK(sf_generate("twist", &o, &cp, &e), e);
+        CHECK_OK(sf_cp_check(&cp, NULL, &e), e);
+        assert_int_equal(flat_foldable_vertices(&cp, 0), 4);
+        assert_int_equal(count(&cp, 'V'), 8);
+        assert_int_equal(count(&cp, 'M'), 4);
+        CHECK_CLOSE(outline_area(&cp), o.a * o.a, 1e-15, "twist area");
+        for (int v = 0; v < cp.nv; v++) {
+            /* rays with their assignment, sorted by angle */
+            double ang[8];
+            char as[8];
+            int d = 0, nb = 0;
+            for (int k = 0; k < cp.ne; k++) {
+                int end = cp.e[k].a == v ? 0 : cp.e[k].b == v ? 1 : -1;
+                if (end < 0) continue;
+                if (cp.e[k].assign == 'B') { nb++; continue; }
+                int w = end ? cp.e[k].a : cp.e[k].b;
+                double a = atan2(cp.v[w].x[1] - cp.v[v].x[1], cp.v[w].x[0] - cp.v[v].x[0]);
+                ang[d] = a < 0 ? a + 2 * M_PI : a;
+                as[d++] = cp.e[k].assign;
+            }
+            if (nb || d == 0) continue;
+            assert_int_equal(d, 4);
+            for (int i = 0; i < d; i++)   /* insertion sort, carrying the kinds */
+                for (int j = i; j > 0 && ang[j] < ang[j - 1]; j--) {
+                    double x = ang[j]; ang[j] = ang[j - 1]; ang[j - 1] = x;
+                    char c = as[j]; as[j] = as[j - 1]; as[j - 1] = c;
+                }
+            double sec[4], small = 1e9;
+            int ks = -1;
+            for (int i = 0; i < 4; i++) {
+                sec[i] = ang[(i + 1) % 4] - ang[i];
+                if (sec[i] < 0) sec[i] += 2 * M_PI;
+                if (sec[i] < small) { small = sec[i]; ks = i; }
+            }
+            CHECK_CLOSE(small, (90 - o.angle) * M_PI / 180, 1e-10, "twist: smallest sector at vertex %d", v);
+            CHECK_CLOSE(sec[(ks + 2) % 4], (90 + o.angle) * M_PI / 180, 1e-10, "twist: largest sector");
+            CHECK_CLOSE(sec[(ks + 1) % 4], M_PI / 2, 1e-10, "twist: right sector");
+            assert_true(as[ks] != as[(ks + 1) % 4]);   /* big-little-big */
+        }
+        sf_cp_free(&cp);
+    }
+}
+
+/* Hypar of R rings: 4 (R - 1) interior vertices, 4 of degree 3 (ring 1)
+ * and 4 (R - 2) of degree 4 that are flat-foldable; 4 (R - 1) ring
+ * creases and 4 (R - 1) diagonal ones, mountains on odd rings. */
+static void test_hypar(void **state)
+{
+    (void)state;
+    for (int R = 2; R <= 5; R++) {
+        sf_gen_opts o;
+        sf_cpattern cp;
+        generate_checked("hypar", R, R, &o, &cp);
+        assert_int_equal(flat_foldable_vertices(&cp, 4), 4 * (R - 2));
+        vstat *vs = calloc((size_t)cp.nv, sizeof *vs);
+        assert_non_null(vs);
+        stats(&cp, vs);
+        int n3 = 0, nint = 0;
+        for (int v = 0; v < cp.nv; v++)
+            if (!vs[v].nb && vs[v].deg) { nint++; n3 += vs[v].deg == 3; }
+        free(vs);
+        assert_int_equal(nint, 4 * (R - 1));
+        assert_int_equal(n3, 4);
+        int nm = 0;   /* ring j odd: 4 M edges; diagonals j -> j+1 take ring j+1's kind */
+        for (int j = 1; j < R; j++) nm += 4 * (j % 2) + 4 * ((j + 1) % 2);
+        assert_int_equal(count(&cp, 'M'), nm);
+        assert_int_equal(count(&cp, 'M') + count(&cp, 'V'), 8 * (R - 1));
+        CHECK_CLOSE(outline_area(&cp), o.a * o.a, 1e-15, "hypar area");
+        sf_cp_free(&cp);
+    }
+}
+
 /* two folds from one vertex at sector alpha: the setbacks equal margin
  * times the distances along each fold to where the facing band edges
  * meet, found here by intersecting the two edge lines */
@@ -348,7 +435,22 @@ static void test_bad_parameters(void **state)
     sf_error e;
     sf_error_clear(&e);
     assert_int_equal(sf_gen_defaults("miuraa", &o, &e), SF_EINPUT);
-    CHECK_CONTAINS(e.msg, "unknown pattern 'miuraa' (patterns: miura, yoshimura, waterbomb)");
+    CHECK_CONTAINS(e.msg, "unknown pattern 'miuraa' (patterns: miura, yoshimura, waterbomb, twist, hypar)");
+    sf_error_clear(&e);
+    assert_int_equal(sf_gen_defaults("twist", &o, &e), SF_OK);
+    o.angle = 45;
+    assert_int_equal(sf_generate("twist", &o, &cp, &e), SF_EINPUT);
+    CHECK_CONTAINS(e.msg, "twist angle 45 degrees: must be in (0, 45)");
+    sf_error_clear(&e);
+    o.angle = 30;
+    o.b = 0.09;   /* the turned square reaches out of the sheet */
+    assert_int_equal(sf_generate("twist", &o, &cp, &e), SF_EINPUT);
+    CHECK_CONTAINS(e.msg, "does not fit inside the sheet");
+    sf_error_clear(&e);
+    assert_int_equal(sf_gen_defaults("hypar", &o, &e), SF_OK);
+    o.m = 1;
+    assert_int_equal(sf_generate("hypar", &o, &cp, &e), SF_EINPUT);
+    CHECK_CONTAINS(e.msg, "hypar: 1 ring: at least 2");
     sf_error_clear(&e);
     assert_int_equal(sf_gen_defaults("miura", &o, &e), SF_OK);
     o.angle = 90;
@@ -367,6 +469,8 @@ int main(void)
         cmocka_unit_test(test_miura_rigid_mode),
         cmocka_unit_test(test_yoshimura),
         cmocka_unit_test(test_waterbomb),
+        cmocka_unit_test(test_twist),
+        cmocka_unit_test(test_hypar),
         cmocka_unit_test(test_setbacks),
         cmocka_unit_test(test_bad_parameters),
     };

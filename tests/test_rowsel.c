@@ -1,5 +1,5 @@
 /* test_rowsel.c - the pose formulation's redundant fold rows removed
- * (src/analysis/poses_rowsel.c, solver.pose_rows; docs/formulations.md):
+ * (src/analysis/poses_rowsel.c, solver.pose_rows; docs/design/model.md):
  * - at a generic state of Miura-ori 2x2 and 3x3 cells (K = 2 and K = 3
  *   modes: self-stress identities), the number of rows kept equals the
  *   rank of the full constraint Jacobian C, counted here from a dense
@@ -182,7 +182,7 @@ static void check_generic(int m, int K)
         CHECK_LE(1e3 * ro, ck, "kept rows not independent");
         CHECK_LE(ka, ro, "the full KKT should be singular (identities)");
         /* the reduced KKT: printed, not asserted: the kept set of the
-         * sparse QR is poorly conditioned (docs/formulations.md) */
+         * sparse QR is poorly conditioned (docs/design/model.md) */
         free(Sk);
         free(SK);
         free(SA);
@@ -318,7 +318,7 @@ static void test_path_rows(void **state)
     /* 2x2 cells: the kept rows imply the dropped ones along the path */
     check_path(2, 2, 12, 1, &d);
     /* 3x3 cells: from the flat state the kept rows follow a branch on
-     * which the dropped rows do not vanish (docs/formulations.md); the
+     * which the dropped rows do not vanish (docs/design/model.md); the
      * check must see it (the run says so in branch.tsv) */
     check_path(3, 2, 8, 0, &d);
     CHECK_LE(1e-6, d, "Miura 3x3 K=2: the spurious branch was not detected");

@@ -43,9 +43,14 @@ else
 fi
 
 out=$("$bin" check "$src/tests/studies/deg4.cfg" 2>&1)
-if printf '%s\n' "$out" | grep -q '^mobility with exact loop closure, about the flat sheet: locked' &&
-   printf '%s\n' "$out" | grep -q '^  vertex c (degree 4, 4 coordinates) alone: locked'; then
-    echo "ok 5 - check reports the locked vertex"
+vout=$("$bin" check "$src/tests/studies/deg4.cfg" --verbose 2>&1)
+# the summary: the verdict on one line, the locked vertex named in the
+# count of locked vertices; --verbose: each vertex's own line
+if printf '%s\n' "$out" | grep -q '^mobility (exact loop closure, about the flat sheet): locked' &&
+   printf '%s\n' "$out" | grep -q '^  1 locked: c$' &&
+   ! printf '%s\n' "$out" | grep -q 'alone:' &&
+   printf '%s\n' "$vout" | grep -q '^  vertex c (degree 4, 4 coordinates) alone: locked'; then
+    echo "ok 5 - check reports the locked vertex (summary; --verbose: the vertex's own line)"
 else
-    echo "not ok 5 - check output: $out"
+    echo "not ok 5 - check output: $out; --verbose: $vout"
 fi

@@ -53,7 +53,7 @@ case "$rc:$rc64:$out:$out65" in
     1:0:*"solver.quadrature: must be between 2 and 64 (got 1)":*"between 2 and 64 (got 65)") ok "solver.quadrature: 1 and 65 refused by the key's range 2..64, 64 accepted";;
     *) notok "quadrature: $rc $out / $rc64 / $out65";;
 esac
-grep -q '`solver.quadrature` | integer 2..64' "$src/docs/study-format.md" && ok "docs give the same range 2..64" || notok "docs range"
+grep -q '`solver.quadrature` | integer 2..64' "$src/docs/reference/study-keys.md" && ok "docs give the same range 2..64" || notok "docs range"
 # 9: a newline inside a value: still one line
 out=$("$bin" check "$s3" --set "analysis.eigensolver=ar
 pack" 2>&1 >/dev/null); rc=$?

@@ -602,7 +602,7 @@ static void dense_to_csc(const double *H, const double *Cd, int m, int n, int ke
  * cut 1e-8).  Ambiguous for sstab: dist = 5e-9 with h < 0 (the index
  * differs with and without the row) and, with a negative eigenvalue
  * elsewhere (shift 0.05), also with h > 0: the bound [mw - 1, mw] is all
- * the inertia can give there (docs/stability.md). */
+ * the inertia can give there (docs/design/linear-algebra.md). */
 static void test_sstab_near_dependent(void **state)
 {
     (void)state;

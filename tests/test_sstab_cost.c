@@ -1,5 +1,5 @@
 /* test_sstab_cost.c - the two cost rules of the bounded effort of sstab.h
- * (docs/stability.md, "Cost"), against closed forms:
+ * (docs/design/linear-algebra.md, "Cost"), against closed forms:
  *  - a tangent space of dimension 50 whose smallest eigenvalue has 12
  *    exact copies (a flat sheet's cluster of bending modes in miniature):
  *    the one bounded ARPACK attempt gets a subspace as large as the

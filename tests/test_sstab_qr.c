@@ -1,5 +1,5 @@
 /* test_sstab_qr.c - the rank-revealing QR of sstab_rows.c factorises C^T
- * alone (docs/stability.md, "Cost of the inertia method along a path").
+ * alone (docs/design/linear-algebra.md, "Cost of the inertia method along a path").
  *
  * C: the difference rows x_b - x_a of the edges of a G x G grid graph
  * (an incidence matrix: rank n - 1, n = G^2 nodes, the constant vector

@@ -22,7 +22,7 @@ trap 'rm -rf "$tmp"' EXIT
 sh "$src/bench/miura-study.sh" 2 actuation > "$tmp/miura2a.cfg"
 sh "$src/bench/miura-study.sh" 3 actuation > "$tmp/miura3a.cfg"
 # K = 2 with the identities among the fold rows dropped (solver.pose_rows =
-# "independent", docs/formulations.md)
+# "independent", docs/design/model.md)
 sh "$src/bench/miura-study.sh" 2 actuation 2 |
     sed 's/^solver = {/solver = { pose_rows = "independent";/' > "$tmp/miura2k2.cfg"
 # study formulation max_steps least-rows least-unstable

@@ -1,6 +1,6 @@
 #!/bin/sh
 # test_step_bound.sh - the step bound near predicted eigenvalue crossings
-# (analysis.step_bound, docs/bifurcation.md).  square4-inplane's flat
+# (analysis.step_bound, docs/guides/stability.md).  square4-inplane's flat
 # branch has three crossings within 0.026 in p (BP 0.2916, BP2 0.3044,
 # BP 0.3173); with max_step = 0.1 one step spans them all.  With the bound
 # every step holds at most one of them: a regular point between each pair,

@@ -313,7 +313,13 @@ int sf_bif_check(sf_bif *b, const cont_point *pt, double s_offset, int first, sf
     if (R->morse_unknown) return SF_OK;
     int lo, hi;
     sf_bif_morse_bounds(R, pt, 0, &lo, &hi);
-    if (!b->prev_ok || first || b->in_check || R->dim != b->prev_dim) return 0;
+    /* a tangent space of another dimension (the rank of the rows changed)
+     * makes the two indices incomparable; a dimension not computed (-1, a
+     * point certified stable from the corrector's matrix, stability.c)
+     * does not stop the check */
+    if (!b->prev_ok || first || b->in_check ||
+        (R->dim >= 0 && b->prev_dim >= 0 && R->dim != b->prev_dim))
+        return 0;
     int up = lo - b->prev_hi, down = b->prev_lo - hi;
     if (up <= 0 && down <= 0) return 0;
     int j0 = up > 0 ? b->prev_hi + 1 : hi + 1, j1 = up > 0 ? lo : b->prev_lo;

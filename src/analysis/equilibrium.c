@@ -38,12 +38,17 @@ int sf_equil_anchor(const double *y, double p, int on, void *user)
     return 0;
 }
 
+double sf_equil_row_eps(const sf_equil *q, double eps, int r)
+{
+    return q->eps_anchor > 0 && q->anchor_w ? eps * q->anchor_w[r] : eps;
+}
+
 void sf_equil_anchor_rows(const sf_equil *q, const double *y, double *F)
 {
     if (!(q->eps_anchor > 0)) return;
     for (int r = 0; r < q->ncon; r++) {
         int i = q->nq + r;
-        F[i] -= q->eps_anchor * q->yscale[i] / q->fscale[i] * (y[i] - q->lam_anchor[r]);
+        F[i] -= sf_equil_row_eps(q, q->eps_anchor, r) * q->yscale[i] / q->fscale[i] * (y[i] - q->lam_anchor[r]);
     }
 }
 
@@ -163,6 +168,7 @@ void sf_equil_free(sf_equil *q)
 {
     sf_peq_free(q);
     free(q->lam_anchor);
+    free(q->anchor_w);
     sf_energy_free(&q->e);
     sf_params_free(&q->par);
     sf_kin_free(&q->k);
@@ -342,7 +348,7 @@ int sf_equil_jacobian(const double *y, double p, SUNMatrix Jy, double *Fp, void 
     for (int r = 0; r < q->ncon; r++) {
         /* regularisation of the multiplier block: -eps in the solver's
          * scaled system (fscale A / yscale), so -eps yscale / fscale here */
-        A[(size_t)(nq + r) * ld + nq + r] = -eps * q->yscale[nq + r] / q->fscale[nq + r];
+        A[(size_t)(nq + r) * ld + nq + r] = -sf_equil_row_eps(q, eps, r) * q->yscale[nq + r] / q->fscale[nq + r];
     }
     memset(Fp, 0, sizeof(double) * n);
     memcpy(Fp, q->gp, sizeof(double) * nq);

@@ -51,6 +51,7 @@ typedef struct sf_equil {
     double reg_rel, reg_min;  /* sf_equil_reg_eps; 0: the fixed eps */
     double *lam_anchor;   /* sf_equil_anchor: multipliers of the anchor, ncon */
     double eps_anchor;    /* its eps; 0: no anchor (the plain residual) */
+    double *anchor_w;     /* NULL, or a factor on eps_anchor per constraint row (ncon) */
     double *yscale, *fscale;
     /* scratch */
     double *grad, *H, *gp, *g, *J, *dx;
@@ -142,6 +143,10 @@ double sf_equil_reg_eps(const sf_equil *q, const double *y);
  * dependent rows (singular values below sqrt(eps)) keep part of g
  * (docs/formulations.md, "Gravity and a tip load").  0 or 1 (no memory). */
 int sf_equil_anchor(const double *y, double p, int on, void *user);
+
+/* The weight of constraint row r in the multiplier block: eps, times
+ * q->anchor_w[r] while an anchor with row factors is on. */
+double sf_equil_row_eps(const sf_equil *q, double eps, int r);
 
 /* Adds the anchor's term to the constraint rows of F (nothing if off). */
 void sf_equil_anchor_rows(const sf_equil *q, const double *y, double *F);

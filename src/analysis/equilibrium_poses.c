@@ -194,7 +194,7 @@ static double assemble(sf_equil *q, const double *y, double p, double *F, int ja
     if (jac) {
         double eps = sf_equil_reg_eps(q, y);   /* 1e-10 unless a flat start set reg_rel */
         for (int r = 0; r < q->ncon; r++)
-            sf_trip_add(&z->T, nx + r, nx + r, -eps * q->yscale[nx + r] / q->fscale[nx + r]);
+            sf_trip_add(&z->T, nx + r, nx + r, -sf_equil_row_eps(q, eps, r) * q->yscale[nx + r] / q->fscale[nx + r]);
     }
     return Pi;
 }

@@ -527,6 +527,8 @@ static int pen_min(const red *R, double *x, double eps, int *sign, int *saddle, 
 #define DESCENT_DEG_TOL 1e-6  /* |x^T Q x| / 2 (x^T A x = 1) at the end of a descent
                                * kept as a degenerate ray */
 #define MAX_RUNS 8
+#define ORDER_TIE_RTOL 1e-7   /* energies equal to this (relative): mirror images */
+#define ORDER_SAME_RTOL 1e-6  /* coordinates equal to this (relative to the largest) */
 
 /* One descent from x at level eps0 down to EPS_MIN, then the exact
  * reduced Newton; v receives (x, nu).  0 when it reached a solution. */
@@ -579,6 +581,21 @@ static int add_sol(const red *R, const double *v, double a0, double *sols, doubl
     matvec(k, R->A, v, tmp);
     en[ns] = 0.5 * dot(k, v, tmp) + dot(k, R->b, v);
     return ns + 1;
+}
+
+/* Whether branch a comes before branch b (z: full coordinates, en:
+ * energies): lower energy first; of equal energies (to ORDER_TIE_RTOL) the
+ * one whose first displacement coordinate that differs (by more than
+ * ORDER_SAME_RTOL of the largest) is smaller. */
+static int branch_before(const sf_limit *L, const double *z, const double *en, int a, int b)
+{
+    double scale = fmax(fabs(en[a]), fabs(en[b]));
+    if (fabs(en[a] - en[b]) > ORDER_TIE_RTOL * scale) return en[a] < en[b];
+    const double *za = z + (size_t)a * L->n, *zb = z + (size_t)b * L->n;
+    double big = fmax(maxabs(za, L->nq), maxabs(zb, L->nq));
+    for (int i = 0; i < L->nq; i++)
+        if (fabs(za[i] - zb[i]) > ORDER_SAME_RTOL * big) return za[i] < zb[i];
+    return 0;
 }
 
 int sf_cone_find(const sf_limit *L, int nstarts, const double *zextra, sf_cone *c)
@@ -728,27 +745,41 @@ int sf_cone_find_rays(const sf_limit *L, int nstarts, const double *zextra, cons
             sf_fc_deg_add(&R, xdeg, wk, c);
         }
     }
-    /* sort by energy (insertion) */
-    int *ord = malloc(sizeof(int) * ((size_t)ns + 1));
-    if (!ord) goto done;
-    for (int i = 0; i < ns; i++) ord[i] = i;
-    for (int i = 1; i < ns; i++)
-        for (int j = i; j > 0 && en[ord[j]] < en[ord[j - 1]]; j--) {
-            int t = ord[j]; ord[j] = ord[j - 1]; ord[j - 1] = t;
-        }
+    /* the branches in full coordinates, then ordered by energy; energies
+     * equal to ORDER_TIE_RTOL (mirror images of a symmetric sheet, whose
+     * computed energies differ only by rounding) by their first coordinate
+     * that differs, smaller first, so that the order, and the branch the
+     * start follows, does not change with the BLAS kernel */
     c->z = calloc((size_t)ns * L->n + 1, sizeof(double));
     c->energy = calloc((size_t)ns + 1, sizeof(double));
     c->stable = calloc((size_t)ns + 1, sizeof(int));
     c->resid = calloc((size_t)ns + 1, sizeof(double));
-    if (!c->z || !c->energy || !c->stable || !c->resid) { free(ord); goto done; }
+    double *zs = calloc((size_t)ns * L->n + 1, sizeof(double));
+    int *ord = malloc(sizeof(int) * ((size_t)ns + 1));
+    if (!c->z || !c->energy || !c->stable || !c->resid || !zs || !ord) {
+        free(zs); free(ord);
+        goto done;
+    }
+    for (int i = 0; i < ns; i++) {
+        ord[i] = i;
+        if (to_full(L, &R, sols + (size_t)i * n, zs + (size_t)i * L->n)) {
+            free(zs); free(ord);
+            goto done;
+        }
+    }
+    for (int i = 1; i < ns; i++)
+        for (int j = i; j > 0 && branch_before(L, zs, en, ord[j], ord[j - 1]); j--) {
+            int t = ord[j]; ord[j] = ord[j - 1]; ord[j - 1] = t;
+        }
     for (int i = 0; i < ns; i++) {
         const double *s = sols + (size_t)ord[i] * n;
         double *z = c->z + (size_t)i * L->n;
-        if (to_full(L, &R, s, z)) { free(ord); goto done; }
+        memcpy(z, zs + (size_t)ord[i] * L->n, sizeof(double) * (size_t)L->n);
         c->energy[i] = en[ord[i]];
         c->stable[i] = red_stable(&R, s);
         c->resid[i] = sf_limit_residual(L, z);
     }
+    free(zs);
     c->nb = ns;
     free(ord);
     rc = 0;

@@ -10,6 +10,9 @@ src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibri
 	src/analysis/flatstart_sparse.c src/analysis/flatstart_sparse.h \
 	src/analysis/flatlimit_sparse.c src/analysis/flatlimit_sparse.h \
 	src/analysis/flatrigid.c src/analysis/flatrigid.h \
+	src/analysis/start/start.c src/analysis/start/start.h src/analysis/start/start_impl.h \
+	src/analysis/start/start_alm.c src/analysis/start/start_kkt.c src/analysis/start/start_cone.c \
+	src/analysis/lmi.c src/analysis/lmi.h \
 	src/analysis/reactions.c src/analysis/reactions.h \
 	src/analysis/mobility.c src/analysis/mobility.h src/analysis/mobility_sparse.c \
 	src/analysis/compare.c src/analysis/compare.h src/analysis/compare_impl.h \
@@ -24,4 +27,5 @@ src_libsmoothfold_a_SOURCES += src/analysis/equilibrium.c src/analysis/equilibri
 	src/analysis/boundary.c src/analysis/boundary.h \
 	src/analysis/sweep.c src/analysis/sweep_run.c src/analysis/sweep.h \
 	src/analysis/multibp.c src/analysis/multibp.h \
-	src/analysis/flatswitch.c src/analysis/flatswitch_follow.c src/analysis/flatswitch.h
+	src/analysis/flatswitch.c src/analysis/flatswitch_follow.c src/analysis/flatswitch.h \
+	src/analysis/validity.c src/analysis/validity.h src/analysis/tritri.c src/analysis/tritri.h

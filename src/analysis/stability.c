@@ -2,6 +2,7 @@
 #include "stability.h"
 
 #include "equilibrium_poses.h"
+#include "ldlt.h"
 #include "study.h"
 
 #include <math.h>
@@ -112,6 +113,12 @@ int sf_stab_init(sf_stab *st, const sf_equil *q, int method, int nev, sf_error *
 void sf_stab_free(sf_stab *st)
 {
     sf_sstab_free(st->sp);
+    sf_ldlt_free(st->jl);
+    free(st->jrow);
+    free(st->jcol);
+    free(st->jsrc);
+    free(st->jval);
+    free(st->jfp);
     free(st->HL);
     free(st->C);
     free(st->work);
@@ -274,12 +281,114 @@ static int eval_arpack(sf_stab *st, sf_error *err)
     return SF_OK;
 }
 
+/* The certificate of the inertia method (docs/stability.md, "Stable by
+ * the corrector's matrix").  The corrector's Jacobian at the point is
+ * Jy = [HL C^T; C -E], every constraint row kept and E > 0 the diagonal
+ * regularisation of the multipliers.  By the Haynsworth inertia formula
+ * (Schur complement on -E) neg(Jy) = m + neg(Q), m rows, Q = HL + C^T E^-1 C;
+ * Q restricted to null C is H_c, so (Cauchy interlacing) H_c has at most
+ * neg(Q) negative eigenvalues, and H_c is positive definite when Q is.
+ * So one LDL^T of Jy with exactly m negative pivots and none null proves
+ * the point stable with Morse index 0, whatever the rank of C and however
+ * nearly dependent its rows: no QR, no choice of rows.  The converse does
+ * not hold (Q can have a negative direction that a constraint removes, a
+ * weak row's), so any other inertia leaves the verdict to sstab.h.
+ * On the path the inertia is the engine's (sf_stab_give_inertia: the LDL^T
+ * it made of this Jacobian at this point, cont_set_point_inertia); where
+ * there is none it is factorised here.
+ * Not at the flat state (every fold coordinate zero): there the multipliers
+ * vanish and HL's pose block is zero, and MUMPS's analysis (which pairs
+ * unknowns into 2 x 2 pivots from the values it is given) made for that
+ * matrix suits the path's matrices badly (Miura 12x12: 2.5 M entries in
+ * the factors and 13,600 delayed pivots later on the path, against 0.84 M
+ * and 6,100 with the analysis made at the first point off the flat state;
+ * and null pivots where the latter finds none).  The analysis is made at
+ * the first point certified and kept (the pattern is the study's).
+ * *ok = 1 when certified.  SF_OK, or an error (memory, non-finite). */
+static int corrector_certificate(sf_stab *st, sf_equil *q, const double *y, double p, int *ok,
+                                 sf_error *err)
+{
+    *ok = 0;
+    if (st->given) {
+        /* the engine's own LDL^T of this Jacobian at this point */
+        st->given = 0;
+        *ok = st->given_null == 0 && st->given_neg == q->ncon;
+        return SF_OK;
+    }
+    double amax = 0.0;
+    for (int j = 0; j < q->m->nq; j++) amax = fmax(amax, fabs(y[j]));
+    if (amax == 0.0) return SF_OK;
+    const long *cp;
+    const int *ri;
+    const double *v;
+    if (!st->jfp && !(st->jfp = malloc(sizeof(double) * (size_t)q->n)))
+        return sf_fail(err, SF_ENOMEM, "out of memory");
+    if (sf_peq_jacobian_csc(q, y, p, &cp, &ri, &v, st->jfp))
+        return sf_fail(err, SF_ENUMERIC, "stability: non-finite Jacobian at p = %g", p);
+    int n = q->n;
+    if (!st->jl) {
+        /* the pattern is the study's (sf_peq_jacobian_csc): its lower
+         * triangle once */
+        long nl = 0;
+        for (int j = 0; j < n; j++)
+            for (long k = cp[j]; k < cp[j + 1]; k++) nl += ri[k] >= j;
+        st->jrow = malloc(sizeof(int) * (size_t)(nl + 1));
+        st->jcol = malloc(sizeof(int) * (size_t)(nl + 1));
+        st->jsrc = malloc(sizeof(long) * (size_t)(nl + 1));
+        st->jval = malloc(sizeof(double) * (size_t)(nl + 1));
+        if (!st->jrow || !st->jcol || !st->jsrc || !st->jval)
+            return sf_fail(err, SF_ENOMEM, "out of memory");
+        nl = 0;
+        for (int j = 0; j < n; j++)
+            for (long k = cp[j]; k < cp[j + 1]; k++)
+                if (ri[k] >= j) {
+                    st->jrow[nl] = ri[k];
+                    st->jcol[nl] = j;
+                    st->jsrc[nl++] = k;
+                }
+        st->jnnz = nl;
+        int rc = sf_ldlt_create(&st->jl, 0.0, err);
+        if (rc) return rc;
+    }
+    for (long k = 0; k < st->jnnz; k++) st->jval[k] = v[st->jsrc[k]];
+    int rc = sf_ldlt_factor(st->jl, n, st->jnnz, st->jrow, st->jcol, st->jval, err);
+    if (rc) return rc;
+    sf_ldlt_info I;
+    sf_ldlt_get_info(st->jl, &I);
+    *ok = I.nnull == 0 && I.neg == q->ncon;
+    return SF_OK;
+}
+
 /* Face poses: the sparse KKT blocks straight to sstab.h; no dense
  * fallback (a tangent space too small for ARPACK leaves the eigenvalues
  * unknown, with the reason). */
 static int eval_sparse_kkt(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *err)
 {
     sf_stab_result *R = &st->res;
+    int method = resolved_method(st->method, st->nq);
+    if (method == SF_EIG_INERTIA && q->ncon > 0) {
+        int ok, rc = corrector_certificate(st, q, y, p, &ok, err);
+        if (rc) return rc;
+        if (ok) {
+            /* stable, index 0, no eigenvalues (they are asked for with
+             * analysis.eigensolver = "arpack"); rank and dimension of the
+             * tangent space not computed */
+            st->ncert++;
+            R->certified = 0;
+            R->cert_mu = R->cert_eig = 0.0;
+            R->method = method;
+            R->rank = R->dim = -1;
+            R->morse = 0;
+            R->morse_unknown = 0;
+            R->stable = 1;
+            R->neig = 0;
+            R->iters = R->nop = 0;
+            R->status = SF_SSTAB_OK;
+            R->attempts = 0;
+            R->reason[0] = '\0';
+            return SF_OK;
+        }
+    }
     sf_csc H, C;
     int rc = sf_peq_kkt_csc(q, y, p, &H, &C);
     if (rc == SF_ENOMEM) return sf_fail(err, SF_ENOMEM, "out of memory");
@@ -287,7 +396,6 @@ static int eval_sparse_kkt(sf_stab *st, sf_equil *q, const double *y, double p, 
     if ((rc = sparse_solver(st, err))) return rc;
     if ((rc = sf_sstab_eval(st->sp, &H, st->ncon > 0 ? &C : NULL, err))) return rc;
     const sf_sstab_result *S = sf_sstab_get(st->sp);
-    int method = resolved_method(st->method, st->nq);
     take_sparse_result(R, S, method);
     if (S->neig == 0 && S->dim > 0 && R->reason[0] == '\0' && method == SF_EIG_ARPACK)
         snprintf(R->reason, sizeof R->reason, "tangent space of dimension %d too small for "
@@ -295,10 +403,27 @@ static int eval_sparse_kkt(sf_stab *st, sf_equil *q, const double *y, double p, 
     return SF_OK;
 }
 
+int sf_stab_wants_inertia(const sf_stab *st, const sf_equil *q)
+{
+    return st->sparse_kkt && q->pz && resolved_method(st->method, st->nq) == SF_EIG_INERTIA;
+}
+
+void sf_stab_give_inertia(sf_stab *st, long neg, long nnull)
+{
+    st->given = 1;
+    st->given_neg = neg;
+    st->given_null = nnull;
+}
+
 int sf_stab_eval(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *err)
 {
     st->nevals++;
-    if (st->sparse_kkt) return eval_sparse_kkt(st, q, y, p, err);
+    if (st->sparse_kkt) {
+        int rc = eval_sparse_kkt(st, q, y, p, err);
+        st->given = 0;
+        return rc;
+    }
+    st->given = 0;
     if (sf_equil_kkt(q, y, p, st->HL, st->C))
         return sf_fail(err, SF_ENUMERIC, "stability: non-finite Hessian at p = %g", p);
     int method = resolved_method(st->method, st->nq);

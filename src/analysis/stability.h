@@ -21,10 +21,15 @@
  *    (redundant constraint rows show as null pivots), ARPACK's operator is
  *    a MUMPS solve, and a non-converged ARPACK run is retried, then
  *    marked unknown (res.status, res.reason) instead of failing.
- *  - inertia (SF_EIG_INERTIA): the same MUMPS factorisation, but
- *    stability and Morse index from its inertia alone (Sylvester:
- *    neg(K(0)) = morse + rank C), one LDL^T per point; the eigenvalues
- *    only when one short ARPACK attempt converges (sstab.h,
+ *  - inertia (SF_EIG_INERTIA): in face poses first the inertia of one
+ *    LDL^T of the corrector's own Jacobian [HL C^T; C -E] at the point,
+ *    which proves the point stable (Morse index 0, no eigenvalues) when it
+ *    has exactly as many negative pivots as constraint rows and no null
+ *    one (stability.c, corrector_certificate; docs/stability.md, "Stable
+ *    by the corrector's matrix"); otherwise, and in fold coordinates, the
+ *    MUMPS factorisation of K(0) above, stability and Morse index from its
+ *    inertia (Sylvester: neg(K(0)) = morse + rank C); the eigenvalues
+ *    there only when one short ARPACK attempt converges (sstab.h,
  *    SF_SSTAB_EIG_BOUNDED), else none (empty eig columns).  For large
  *    sheets, whose eigenvalue clusters make ARPACK slow.
  * Fold coordinates, dense: where redundant rows lose rank a negative
@@ -77,6 +82,7 @@ typedef struct sf_stab_result {
     double cert_eig;   /* the certificate's smallest eigenvalue (> 0) */
 } sf_stab_result;
 
+struct sf_ldlt;
 typedef struct sf_stab {
     int nq, ncon, nev, method;
     double *HL, *C;        /* KKT blocks at the point */
@@ -84,6 +90,16 @@ typedef struct sf_stab {
     size_t nwork;
     int *iwork;
     sf_sstab *sp;          /* the ARPACK method (MUMPS + ARPACK) */
+    /* the inertia method's certificate on the corrector's matrix
+     * (stability.c, corrector_certificate): its LDL^T, the lower triangle's
+     * pattern (0-based) and where each entry sits in the assembly */
+    struct sf_ldlt *jl;
+    int *jrow, *jcol;
+    long *jsrc, jnnz;
+    double *jval, *jfp;
+    long ncert;            /* points certified stable that way */
+    int given;             /* sf_stab_give_inertia: 1 until the next evaluation */
+    long given_neg, given_null;
     int sparse_kkt;        /* face poses: sparse blocks to sp, no dense HL, C */
     int arpack_maxiter;    /* 0: sstab.h default; set before the first eval */
     int arpack_attempts;   /* 0: sstab.h default */
@@ -116,7 +132,7 @@ int sf_stab_eval(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *
  * eigenvalue at a point with redundant constraint rows: look for a
  * self-stress mu of the rows (null C^T, at most 64 of them) with
  * Z^T HL(lambda + mu) Z positive definite, the second-order sufficient
- * condition; when found, res says stable, morse 0, certified 1, no
+ * condition; when found, res says stable, morse 0, certified 1 or 2, no
  * eigenvalues (stab_cert.c; docs/stability.md).  Called by
  * sf_stab_eval. */
 int sf_stab_certify(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *err);
@@ -145,5 +161,17 @@ int sf_stab_cert_search(int d, int k, const double *H0, const double *A, double 
                         sf_cert_search *out);
 
 const char *sf_stab_method_name(int method);
+
+/* 1 when st's evaluations of q's points start from the inertia of the
+ * corrector's own Jacobian at the point (the inertia method in face
+ * poses): the caller then asks the engine for it (cont_set_point_inertia)
+ * and hands it over with sf_stab_give_inertia. */
+int sf_stab_wants_inertia(const sf_stab *st, const sf_equil *q);
+
+/* The inertia of the corrector's Jacobian at the point the next
+ * sf_stab_eval evaluates (negative and null pivots of its LDL^T, from
+ * the engine: cont_point.jy_inertia); used by that evaluation only, in
+ * place of a factorisation of its own. */
+void sf_stab_give_inertia(sf_stab *st, long neg, long nnull);
 
 #endif

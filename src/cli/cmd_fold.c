@@ -68,7 +68,7 @@ int sf_cmd_import(int argc, char **argv, const char *cmdline, const char *output
              nm, nv, nu, nf, nf && so->include_flat ? " (--include-flat: the facet edges are folds)" : "");
     for (int k = 0; k < info.nnotes && l < sizeof hdr; k++)
         l += (size_t)snprintf(hdr + l, sizeof hdr - l, "\n%s.", info.notes[k]);
-    if (l < sizeof hdr) snprintf(hdr + l, sizeof hdr - l, "\n(docs/fold-format.md, docs/svg-format.md)");
+    if (l < sizeof hdr) snprintf(hdr + l, sizeof hdr - l, "\n(docs/guides/importing-patterns.md, docs/reference/svg-format.md)");
     size_t ol = strlen(output);
     if (ol >= 5 && strcmp(output + ol - 5, ".fold") == 0) {
         if (nset) { sf_cp_free(&cp); return sf_fail(err, SF_EINPUT, "import: --set applies to a study (-o S.cfg), not to FOLD output"); }

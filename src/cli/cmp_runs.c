@@ -263,7 +263,7 @@ int sf_cli_convergence(const sf_options *o, sf_error *err)
     if (sf_study_load(path, 0, NULL, &s, &serr)) return SF_OK;
     int on = 0;
     sf_study_bool(&s, "analysis.convergence", 0, &on, NULL);
-    int n = s.nfolds, rc = SF_OK;
+    int n = s.nfolds - s.nfacets, rc = SF_OK;   /* facet hinges keep K = 0 */
     const char **sets = on ? calloc((size_t)(o->nset + n + 7), sizeof *sets) : NULL;
     char **own = on ? calloc((size_t)n + 1, sizeof *own) : NULL;
     if (on && (!sets || !own)) rc = sf_fail(err, SF_ENOMEM, "out of memory");

@@ -13,6 +13,7 @@
 #include "kinematics.h"
 #include "mobility.h"
 #include "outdir.h"
+#include "progress.h"
 #include "scene.h"
 #include "study.h"
 #include "topology.h"
@@ -29,37 +30,109 @@ static void print_dof(int dof, int first, double gap, double radius)
                 "of locking (%d at first order)", radius, gap, first);
 }
 
-/* Degrees of freedom left by exact loop closure (src/analysis/mobility.h). */
-static int print_mobility(const sf_scene *sc, sf_error *err)
+/* The one line of the mobility verdict of the whole sheet, from the
+ * mobility API (src/analysis/mobility.h): foldable, locked, or undecided.
+ * The only place `check` turns the analysis into a verdict, so that a new
+ * verdict (its certificate) replaces this function alone. */
+static void print_mobility_verdict(const sf_scene *sc, const sf_mobility *mb)
+{
+    printf("mobility (exact loop closure, about the flat sheet): ");
+    if (!mb->probed)
+        printf("undecided: %d degree%s of freedom at first order (sparse rank); the second-order "
+               "probe of the whole sheet runs up to %d coordinates, this one has %d\n",
+               mb->first_order, mb->first_order == 1 ? "" : "s", SF_MOBILITY_DENSE_MAX, mb->nq);
+    else if (mb->dof > 0)
+        printf("foldable, %d degree%s of freedom (%d at first order)\n", mb->dof, mb->dof == 1 ? "" : "s",
+               mb->first_order);
+    else if (mb->dof == 0)
+        printf("locked (%d at first order; a stress certifies it to second order: %.3g > 0)\n",
+               mb->first_order, mb->certificate);
+    else
+        printf("undecided: no closed state found at %g rad (residual %.2g) and no proof of locking "
+               "(%d at first order)\n", mb->radius, mb->gap, mb->first_order);
+    if (sf_mobility_locked(mb)) {
+        char what[1500];
+        sf_mobility_describe(&sc->model, mb, what, sizeof what);
+        printf("warning: %s\n", what);
+    }
+}
+
+/* Up to max names of the vertices whose own loops give verdict dof
+ * (0 locked, -1 undecided), after the count. */
+static void print_vertex_group(const sf_scene *sc, const sf_mobility *mb, int dof, const char *what,
+                               int max)
+{
+    int n = 0;
+    for (int v = 0; v < mb->nvertices; v++) n += dof < 0 ? mb->v[v].dof < 0 : mb->v[v].dof == dof;
+    if (!n) return;
+    printf("  %d %s", n, what);
+    int k = 0;
+    for (int v = 0; v < mb->nvertices && k < max; v++) {
+        if (!(dof < 0 ? mb->v[v].dof < 0 : mb->v[v].dof == dof)) continue;
+        printf("%s%s", k++ ? ", " : ": ", vname(&sc->study, sc->topo.ivertices[v].vertex));
+    }
+    printf("%s\n", n > max ? ", ..." : "");
+}
+
+/* Degrees of freedom left by exact loop closure (src/analysis/mobility.h):
+ * the verdict, the vertices that matter (locked, undecided), and with
+ * verbose every vertex's own. */
+static int print_mobility(const sf_scene *sc, int verbose, sf_progress *progress, sf_error *err)
 {
     sf_mobility mb;
+    sf_progress_phase(progress, 0, "check: mobility of the whole sheet (%d coordinates) and of its %d "
+                      "interior vertices alone", sc->model.nq, sc->topo.nivertices);
     if (sf_mobility_analyse(&sc->model, NULL, &mb, err)) return err->code;
+    sf_progress_phase(progress, 0, "check: writing the summary");
     const sf_study *s = &sc->study;
     const sf_topology *t = &sc->topo;
-    printf("mobility with exact loop closure, about the flat sheet: ");
-    if (mb.probed) print_dof(mb.dof, mb.first_order, mb.gap, mb.radius);
-    else printf("%d at first order (sparse rank; the second-order probe of the whole sheet runs "
-                "up to %d coordinates)", mb.first_order, SF_MOBILITY_DENSE_MAX);
-    printf("\n");
-    for (int v = 0; v < mb.nvertices; v++) {
+    print_mobility_verdict(sc, &mb);
+    int mobile = 0;
+    for (int v = 0; v < mb.nvertices; v++) mobile += mb.v[v].dof > 0;
+    printf("vertices under their own loops: %d mobile, %d locked, %d undecided%s\n", mobile, mb.nlocked,
+           mb.nvertices - mobile - mb.nlocked, verbose ? "" : " (--verbose: each vertex)");
+    if (!verbose) {
+        print_vertex_group(sc, &mb, 0, "locked", 8);
+        print_vertex_group(sc, &mb, -1, "undecided", 8);
+    }
+    for (int v = 0; verbose && v < mb.nvertices; v++) {
         const sf_mobility_vertex *mv = &mb.v[v];
         printf("  vertex %s (degree %d, %d coordinates) alone: ",
                vname(s, t->ivertices[v].vertex), t->ivertices[v].degree, mv->coords);
         print_dof(mv->dof, mv->first_order, mv->gap, mb.radius);
         printf("\n");
     }
-    if (sf_mobility_locked(&mb)) {
-        char what[1500];
-        sf_mobility_describe(&sc->model, &mb, what, sizeof what);
-        printf("warning: %s\n", what);
-    }
     sf_mobility_free(&mb);
     return SF_OK;
+}
+
+/* The interior vertices: counts by degree; with verbose each by name. */
+static void print_vertices(const sf_study *s, const sf_topology *t, int verbose)
+{
+    printf("interior vertices: %d", t->nivertices);
+    if (verbose) {
+        for (int v = 0; v < t->nivertices; v++)
+            printf("%s%s (degree %d)", v ? ", " : ": ", vname(s, t->ivertices[v].vertex),
+                   t->ivertices[v].degree);
+        printf("\n");
+        return;
+    }
+    int maxdeg = 0;
+    for (int v = 0; v < t->nivertices; v++)
+        if (t->ivertices[v].degree > maxdeg) maxdeg = t->ivertices[v].degree;
+    int k = 0;
+    for (int d = 1; d <= maxdeg; d++) {
+        int n = 0;
+        for (int v = 0; v < t->nivertices; v++) n += t->ivertices[v].degree == d;
+        if (n) printf("%s%d of degree %d", k++ ? ", " : " (", n, d);
+    }
+    printf("%s\n", k ? ")" : "");
 }
 
 int sf_cmd_check(const sf_options *o, sf_error *err)
 {
     sf_scene sc;
+    sf_progress_phase(o->progress, 0, "check: reading the study, building the sheet (faces, bands, model)");
     if (sf_scene_open(&sc, o->study_path, o->nset, o->sets, err)) {
         sf_scene_close(&sc);
         return err->code;
@@ -80,11 +153,11 @@ int sf_cmd_check(const sf_options *o, sf_error *err)
     printf("folds: %d (G1 %d, G2 %d; shape modes K = %d", s->nfolds, ng1, ng2, kmin);
     if (kmax != kmin) printf("..%d", kmax);
     printf("; %d generalised coordinates)\n", m->nq);
-    printf("interior vertices: %d", t->nivertices);
-    for (int v = 0; v < t->nivertices; v++)
-        printf("%s%s (degree %d)", v ? ", " : ": ", vname(s, t->ivertices[v].vertex),
-               t->ivertices[v].degree);
-    printf("\n");
+    if (s->bending)
+        printf("bending faces: %d facet hinges (folds %d..%d; docs/guides/bending-faces.md), %d setback%s of "
+               "the study's folds raised to clear them\n", s->nfacets, s->nfolds - s->nfacets + 1,
+               s->nfolds, s->nraised, s->nraised == 1 ? "" : "s");
+    print_vertices(s, t, o->verbose);
     const sf_face *root = &t->faces[t->root];
     printf("fixed face: %d (contains (%g, %g); %d corners, area %.6g m^2)\n", t->root + 1,
            s->fixed_point[0], s->fixed_point[1], root->nverts, root->area);
@@ -117,11 +190,12 @@ int sf_cmd_check(const sf_options *o, sf_error *err)
         if (p.fold >= 0) printf("on the band of fold %d\n", p.fold + 1);
         else printf("on face %d\n", p.face + 1);
     }
-    if (t->nivertices > 0 && print_mobility(&sc, err)) {
+    if (t->nivertices > 0 && print_mobility(&sc, o->verbose, o->progress, err)) {
         sf_scene_close(&sc);
         return err->code;
     }
     printf("analysis: %s\n", s->analysis_type);
+    sf_progress_phase(o->progress, 0, "check: reading the reference files");
     sf_compare *cmp = NULL;     /* reference files: read and checked here too */
     int rc = sf_compare_open(&cmp, s, err);
     if (!rc) sf_compare_print_files(cmp, stdout);

@@ -12,19 +12,25 @@ typedef struct sf_options {
     int nset;
     const char *angles;
     int quiet;
+    int verbose;      /* check: every vertex, not only those that matter */
     int force;        /* run: write into a directory holding other files */
     int plot;         /* run: 1 draw plots, 0 do not, -1 as output.plots says */
     double tol;       /* compare: --tol (when have_tol) */
     int have_tol;
     const char *folds; /* plot: --folds selection */
+    struct sf_progress *progress;  /* run, check: the progress reporter
+                                      (progress.h), NULL when quiet */
 } sf_options;
 
 int sf_cmd_check(const sf_options *o, sf_error *err);
 int sf_cmd_shape(const sf_options *o, sf_error *err);
 int sf_cmd_run(const sf_options *o, sf_error *err);
 /* `smoothfold sweep STUDY.cfg [OPTION]...` (argv[0] = "sweep"): parses
- * its own options, returns the exit status (sweep.c, docs/sweep.md). */
+ * its own options, returns the exit status (sweep.c, docs/guides/sweeps.md). */
 int sf_cmd_sweep(int argc, char **argv);
+/* `smoothfold keys [--verbose]` (argv[0] = "keys"): the study keys of the
+ * schema, one per line (cmd_keys.c); returns the exit status. */
+int sf_cmd_keys(int argc, char **argv);
 /* One warning line on stderr per value far outside physical sense
  * (rest angles beyond pi, widths below a micrometre, E outside 1 kPa ..
  * 10 TPa); the study stays valid. */

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "commands.h"
+#include "progress.h"
 #include "kinematics.h"
 #include "study.h"
 #include "topology.h"
@@ -47,6 +48,8 @@ static const char *usage_text =
     "  sweep STUDY.cfg --vary KEY=V1,V2,... -o DIR\n"
     "                          run variants of a study (serially, or under\n"
     "                          mpirun); smoothfold sweep --help\n"
+    "  keys [--verbose]        list the study keys (with -v: type, default, unit,\n"
+    "                          meaning)\n"
     "\n"
     "Options:\n"
     "  -o, --output=PATH       output file (shape) or directory (run)\n"
@@ -64,6 +67,7 @@ static const char *usage_text =
     "      --allow-include=DIR a study's @include may read files in DIR too\n"
     "                          (default: only the study's folder)\n"
     "  -q, --quiet             no progress lines\n"
+    "  -v, --verbose           check: every interior vertex (default: a summary)\n"
     "  -h, --help              show this help and exit\n"
     "  -V, --version           show the version and exit\n"
     "\n"
@@ -72,7 +76,7 @@ static const char *usage_text =
     "exceeded its tolerance (run: see DIR/compare.tsv), 7 the run stopped\n"
     "at analysis.max_steps inside its range (results written, with a line\n"
     "# STOPPED EARLY), 8 compare: the runs differ by more than --tol.\n"
-    "Documentation: docs/study-format.md, docs/output-format.md.\n";
+    "Documentation: docs/reference/study-keys.md, docs/reference/output-files.md.\n";
 
 /* One command: its name, its positional arguments and its own help. */
 typedef struct command {
@@ -84,10 +88,13 @@ typedef struct command {
 
 static const command commands[] = {
     {"check", 1, "STUDY.cfg",
-     "Usage: smoothfold check STUDY.cfg [--set KEY=VALUE]...\n"
-     "Validate a study and print a summary of its sheet: faces, folds, vertices,\n"
-     "the fixed face, constraints, loads, probes, the degrees of freedom the\n"
-     "loop constraints leave, and the reference files.\n"
+     "Usage: smoothfold check STUDY.cfg [--set KEY=VALUE]... [--verbose] [-q]\n"
+     "Validate a study and print a summary of its sheet: faces, folds, vertices\n"
+     "by degree, the fixed face, constraints, loads, probes, the mobility verdict\n"
+     "(the degrees of freedom the loop constraints leave), the vertices that\n"
+     "matter (locked or undecided under their own loops), and the reference files.\n"
+     "--verbose: every interior vertex by name, and each one's own mobility.\n"
+     "Long analyses say on stderr every 5 s what they are doing (not with -q).\n"
      "Exit status: 0 valid, 1 bad input (one line naming file, line, problem).\n"},
     {"shape", 1, "STUDY.cfg",
      "Usage: smoothfold shape STUDY.cfg -o FILE.vtp [--angles=LIST] [--set KEY=VALUE]...\n"
@@ -99,7 +106,7 @@ static const command commands[] = {
     {"run", 1, "STUDY.cfg",
      "Usage: smoothfold run STUDY.cfg -o DIR [--set KEY=VALUE]... [--force] [--plot|--no-plot] [-q]\n"
      "Run the study's analysis (equilibrium path or dynamics) and write the results\n"
-     "in DIR (docs/output-format.md).  DIR is created if needed.  Earlier results\n"
+     "in DIR (docs/reference/output-files.md).  DIR is created if needed.  Earlier results\n"
      "of smoothfold in DIR are removed first (the message says which); a DIR that\n"
      "holds other files is refused unless --force is given (they are kept).\n"
      "--plot / --no-plot: draw the plots afterwards (as `smoothfold plot DIR`), or\n"
@@ -217,11 +224,20 @@ static int dispatch(const command *cmd, char **args, sf_options *opt)
         rc = sf_cmd_compare(args[0], args[1], opt, &err);
     } else {
         opt->study_path = args[0];
+        /* a line on stderr at least every 5 s of run or check */
+        if (strcmp(cmd->name, "shape") != 0) {
+            /* SMOOTHFOLD_PROGRESS_PERIOD: another period in seconds, for tests */
+            const char *pe = getenv("SMOOTHFOLD_PROGRESS_PERIOD");
+            double period = pe && atof(pe) > 0 ? atof(pe) : 5.0;
+            opt->progress = sf_progress_start(opt->quiet, period);
+        }
         if (strcmp(cmd->name, "check") == 0) rc = sf_cmd_check(opt, &err);
         else if (strcmp(cmd->name, "shape") == 0) rc = sf_cmd_shape(opt, &err);
         else rc = sf_cmd_run(opt, &err);
         if (rc == SF_OK && strcmp(cmd->name, "run") == 0)
             rc = sf_cli_convergence(opt, &err);  /* analysis.convergence: K+1 */
+        sf_progress_stop(opt->progress);
+        opt->progress = NULL;
         if (rc == SF_OK && strcmp(cmd->name, "run") == 0)
             rc = sf_cli_run_plots(opt, &err);   /* --plot, output.plots */
     }
@@ -276,6 +292,7 @@ int main(int argc, char **argv)
         {"tol", required_argument, NULL, OPT_TOL},
         {"folds", required_argument, NULL, OPT_FOLDS},
         {"quiet", no_argument, NULL, 'q'},
+        {"verbose", no_argument, NULL, 'v'},
         {"help", no_argument, NULL, 'h'},
         {"version", no_argument, NULL, 'V'},
         {NULL, 0, NULL, 0},
@@ -283,6 +300,7 @@ int main(int argc, char **argv)
     int arc = take_allow_include(&argc, argv);
     if (arc) return arc;
     if (argc >= 2 && strcmp(argv[1], "sweep") == 0) return sf_cmd_sweep(argc - 1, argv + 1);
+    if (argc >= 2 && strcmp(argv[1], "keys") == 0) return sf_cmd_keys(argc - 1, argv + 1);
     if (argc >= 2 && sf_cmd_is_pattern(argv[1])) {   /* pattern, import, export */
         sf_error perr;
         sf_error_clear(&perr);
@@ -303,7 +321,7 @@ int main(int argc, char **argv)
     int c, help = 0, status = -1;
     char msg[512];
     opterr = 0;   /* messages here, under the program's name */
-    while (status < 0 && (c = getopt_long(argc, argv, ":o:qhV", longopts, NULL)) != -1) {
+    while (status < 0 && (c = getopt_long(argc, argv, ":o:qvhV", longopts, NULL)) != -1) {
         switch (c) {
         case 'o': opt.output = optarg; break;
         case OPT_SET:
@@ -324,6 +342,7 @@ int main(int argc, char **argv)
             break;
         }
         case 'q': opt.quiet = 1; break;
+        case 'v': opt.verbose = 1; break;
         case 'h': help = 1; break;
         case 'V':
             printf("smoothfold %s\n", PACKAGE_VERSION);
@@ -353,7 +372,7 @@ int main(int argc, char **argv)
     if (optind >= argc) {
         status = fail_usage("missing command (check, shape, run, plot, compare)");
     } else if (!cmd) {
-        snprintf(msg, sizeof msg, "unknown command '%s' (commands: check, shape, run, plot, compare, sweep)",
+        snprintf(msg, sizeof msg, "unknown command '%s' (commands: check, shape, run, plot, compare, pattern, import, export, sweep, keys)",
                  argv[optind]);
         status = fail_usage(msg);
     } else if (argc - optind - 1 != cmd->nargs) {

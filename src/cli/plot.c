@@ -239,7 +239,7 @@ int sf_cmd_plot(const char *dir, const char *folds, sf_error *err)
     char sweep[1200];
     snprintf(sweep, sizeof sweep, "%s/sweep.tsv", dir);
     if (!have_branch && !have_traj && stat(sweep, &st) == 0) {
-        const char *scripts[] = {"sweep.gp"};   /* a sweep directory (docs/sweep.md) */
+        const char *scripts[] = {"sweep.gp"};   /* a sweep directory (docs/guides/sweeps.md) */
         if (run_scripts(dir, scripts, 1, NULL, err)) return err->code;
         printf("wrote %s/sweep.png, sweep.pdf\n", dir);
         return SF_OK;

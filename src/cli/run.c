@@ -1,7 +1,7 @@
 /* run.c - `smoothfold run`: follow the study's equilibrium path with the
  * continuation engine and write DIR/branch.tsv, DIR/stats.csv,
  * DIR/special.tsv, DIR/shapes.pvd (with the VTK files in DIR/shapes/) and DIR/study.cfg
- * (docs/output-format.md).  Every file is written to a temporary name and
+ * (docs/reference/output-files.md).  Every file is written to a temporary name and
  * renamed when complete.  This file: the command, the dispatch by
  * analysis.type, the end of the run; the path itself is run_equilibrium.c. */
 #include <stdio.h>
@@ -10,6 +10,7 @@
 #include <time.h>
 
 #include "flatstart.h"
+#include "progress.h"
 #include "run_boundary.h"
 #include "run_dynamics.h"
 #include "run_impl.h"
@@ -54,6 +55,8 @@ static void run_release(run_ctx *r)
     sf_reactions_free(&r->reac);
     sf_pvd_free(&r->pvd);
     sf_foldrec_free(&r->foldrec);
+    sf_validity_free(r->val);
+    r->val = NULL;
 }
 
 /* The fold formulation's flat start, chosen by "auto" for a small sheet,
@@ -99,6 +102,7 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     if (!o->output) return sf_fail(err, SF_EINPUT, "run: give the output directory with -o DIR");
     double t0 = now();
     sf_scene sc;
+    sf_progress_phase(o->progress, 0, "run: reading the study, building the sheet (faces, bands, model)");
     if (sf_scene_open(&sc, o->study_path, o->nset, o->sets, err)) {
         sf_scene_close(&sc);
         return err->code;
@@ -110,11 +114,13 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
         if (sf_study_count(&sc.study, "references") > 0 && !o->quiet)
             fprintf(stderr, "smoothfold: note: the study's references are compared with "
                             "equilibrium paths only, not with this trajectory\n");
+        sf_progress_phase(o->progress, 0, "run: the trajectory in time (IDA)");
         int drc = sf_run_dynamics(&sc, o, err);
         sf_scene_close(&sc);
         return drc;
     }
     if (strcmp(sc.study.analysis_type, "boundary") == 0) {
+        sf_progress_phase(o->progress, 0, "run: the stability boundary in two parameters");
         int brc = sf_run_boundary(&sc, o, err);   /* run_boundary.c */
         sf_scene_close(&sc);
         return brc;
@@ -158,9 +164,11 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
                  * (every stage ramps over its own interval), not in the
                  * one-stage ramp the last segment was followed in */
                 r.eq.ramp_stage = -1;
+                sf_progress_phase(o->progress, 0, "run: solving at the reference values of p");
                 rc = sf_compare_eval(r.cmp, &r.eq, r.probes, r.solver, err);
                 r.compared = !rc;
             }
+            sf_progress_phase(o->progress, 0, "run: writing the result files");
             if (!rc) rc = run_write_outputs(&r);
         }
     }
@@ -168,6 +176,12 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
         printf("%s: %ld points, %ld Newton iterations, %.3g s; results in %s\n", sc.study.name,
                r.npoints, r.tot.newton_iters, now() - t0, r.dir);
         sf_compare_print(r.cmp, stdout);
+    }
+    if ((!rc || rc == SF_ENUMERIC) && r.npoints > 0) {
+        /* said even with --quiet: a warning about the results */
+        char vline[1500];
+        run_validity_summary(&r, vline, sizeof vline);
+        if (vline[0]) fprintf(stderr, "smoothfold: warning: %s\n", vline);
     }
     if (!rc && r.compared) rc = sf_compare_check(r.cmp, err);
     if (!rc && r.short_stop)

@@ -1,5 +1,5 @@
 /* run_boundary.c - `smoothfold run` with analysis.type = "boundary": a
- * stability boundary in two parameters (docs/bifurcation.md).
+ * stability boundary in two parameters (docs/guides/stability.md).
  *
  * 1. The study's path in p (analysis.parameter, start .. end) at the
  *    study's value q0 of the second parameter, until the first limit point

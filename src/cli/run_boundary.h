@@ -9,7 +9,7 @@
 /* Follow the study's path until the first limit or branch point
  * (analysis.from), then continue that point in the second parameter
  * (analysis.second) in both directions, and write DIR/boundary.tsv and
- * DIR/study.cfg (docs/bifurcation.md, docs/output-format.md).  sc is
+ * DIR/study.cfg (docs/guides/stability.md, docs/reference/output-files.md).  sc is
  * open; the caller closes it. */
 int sf_run_boundary(sf_scene *sc, const sf_options *o, sf_error *err);
 

@@ -8,7 +8,7 @@
 
 /* Integrate the study's trajectory and write DIR/trajectory.tsv,
  * DIR/stats.csv, DIR/shapes.pvd (+ DIR/shapes/), DIR/study.cfg, then the
- * plots (docs/output-format.md).  sc is open; the caller closes it. */
+ * plots (docs/reference/output-files.md).  sc is open; the caller closes it. */
 int sf_run_dynamics(sf_scene *sc, const sf_options *o, sf_error *err);
 
 #endif

@@ -11,9 +11,11 @@
 #include "equilibrium_poses.h"
 #include "flatstart.h"
 #include "flatstart_sparse.h"
+#include "progress.h"
 #include "flatswitch.h"
 #include "mobility.h"
 #include "run_impl.h"
+#include "start.h"
 #include "study.h"
 
 /* The start failed: when the loop constraints leave no motion (the whole
@@ -82,6 +84,9 @@ static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, d
     sf_equil *eq = &r->eq;
     sf_error *err = r->err;
     double end = r->p_end;
+    if (!(r->cpu_path0 > 0)) r->cpu_path0 = run_cpu_seconds();
+    /* stability from the corrector's own LDL^T at each point (stability.h) */
+    if (r->do_stab && sf_stab_wants_inertia(&r->stab, eq)) cont_set_point_inertia(cs, 1);
     int rc = cont_run(cs);
     while (staged && rc == CONT_DONE && !r->failed && r->seg_end != end &&
            cont_stop_reason(cs) == (dir > 0 ? CONT_STOP_PMAX : CONT_STOP_PMIN)) {
@@ -115,6 +120,18 @@ static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, d
     if (r->flat_sw && flat_switch(r)) return err->code;
     return sf_bif_switch(&r->bif, cs, err);
 }
+/* The flat state as the path's first written point; nonzero when the
+ * point callback stopped the run. */
+static int write_flat_point(run_ctx *r, double *y0, double start)
+{
+    cont_point p0;
+    memset(&p0, 0, sizeof p0);
+    p0.y = y0;
+    p0.p = start;
+    run_on_point(&p0, r);
+    return r->failed;
+}
+
 /* The path starts at the flat state of a sheet with loops: write that
  * point, then find the first point off it (flatstart.h, the pose and
  * sparse variants).  0: the engine holds the first point, *ret = CONT_OK;
@@ -132,12 +149,7 @@ static int start_at_flat(run_ctx *r, double *y0, double start, double end, doubl
      * rows are undetermined there).  Report it, then start the branch
      * one step further from the limit of the branch at the flat state
      * (src/analysis/flatstart.c; the penalty homotopy as the fallback). */
-    cont_point p0;
-    memset(&p0, 0, sizeof p0);
-    p0.y = y0;
-    p0.p = start;
-    run_on_point(&p0, r);
-    if (r->failed) return *ret = err->code, 1;
+    if (write_flat_point(r, y0, start)) return *ret = err->code, 1;
     double p1 = start + dir * fmin(step, 0.25 * fabs(end - start));
     if (r->seg_end != end) p1 = start + dir * fmin(fabs(p1 - start), 0.25 * fabs(r->seg_end - start));
     r->s_offset = -1.0;   /* set from the first point (run_on_point) */
@@ -168,6 +180,61 @@ static int start_at_flat(run_ctx *r, double *y0, double start, double end, doubl
         r->flat_p1 = cont_get_point(cs)->p;
         r->flat_dp = p1 - start;
     }
+    *ret = CONT_OK;
+    return 0;
+}
+
+/* analysis.flat_start = "multipliers" (start.h, docs/design/start.md): write the
+ * flat state, find the closed state of least energy at a given amount of
+ * folding by the method of multipliers, and hand it to the engine with
+ * the chord from the flat state as its tangent (the Jacobian may be
+ * nearly singular there; the start's point meets the Newton tolerance
+ * already).  0: the engine holds the first point, *ret = CONT_OK; 1:
+ * stop with *ret. */
+static int start_by_multipliers(run_ctx *r, double *y0, double start, double end, int dir,
+                                double flat_angle, int *ret)
+{
+    const sf_study *s = &r->sc->study;
+    sf_error *err = r->err;
+    sf_equil *eq = &r->eq;
+    cont_solver *cs = r->solver;
+    if (write_flat_point(r, y0, start)) return *ret = err->code, 1;
+    r->s_offset = -1.0;   /* set from the first point (run_on_point) */
+    int fb = 1;
+    if (sf_study_int(s, "solver.flat_branch", 1, &fb, err)) return *ret = err->code, 1;
+    if (fb > 2)
+        return *ret = sf_fail(err, SF_EINPUT, "%s: solver.flat_branch = %d: with analysis.flat_start "
+                              "= \"multipliers\", a symmetric driving gives two mirror branches "
+                              "(1 or 2)", s->path, fb), 1;
+    sf_start_opts o;
+    o.flat_angle = flat_angle;
+    o.dp_max = 0.25 * fabs((r->seg_end != end ? r->seg_end : end) - start);
+    o.tol = s->tolerance > 0 ? s->tolerance : 1e-10;
+    o.branch = fb;
+    o.census = 0;
+    sf_start_info si;
+    double p1 = start;
+    double *y1 = malloc(sizeof(double) * ((size_t)eq->n + 1));
+    double *t1 = malloc(sizeof(double) * ((size_t)eq->n + 1));
+    if (!y1 || !t1) {
+        free(y1);
+        free(t1);
+        return *ret = sf_fail(err, SF_ENOMEM, "out of memory"), 1;
+    }
+    int rc = sf_start_flat(eq, y0, start, dir, &o, y1, &p1, &si, err);
+    if (si.note[0]) run_branch_note(r, "%s", si.note);
+    if (!rc) {
+        for (int i = 0; i < eq->n; i++) t1[i] = y1[i] - y0[i];
+        if (cont_start_tangent(cs, y1, p1, t1, p1 - start) != CONT_OK) {
+            if (!r->failed)
+                sf_fail(err, SF_ENUMERIC, "%s: the first point off the flat state (p = %.6g) does "
+                        "not converge in the path's corrector: %s", s->path, p1, cont_errmsg(cs));
+            rc = err->code;
+        }
+    }
+    free(y1);
+    free(t1);
+    if (rc) return *ret = rc, 1;
     *ret = CONT_OK;
     return 0;
 }
@@ -242,6 +309,15 @@ static int choose_keys(run_ctx *r, const char **form, const char **fs, const cha
     return SF_OK;
 }
 
+/* Every evaluation of the equations counts as progress (the param hook
+ * is called by each residual, Jacobian and report). */
+static void count_eval(sf_equil *q, double p, void *data)
+{
+    (void)q;
+    (void)p;
+    sf_progress_eval(data);
+}
+
 int run_equilibrium(run_ctx *r)
 {
     sf_scene *sc = r->sc;
@@ -262,6 +338,10 @@ int run_equilibrium(run_ctx *r)
     if (sf_equil_init(&r->eq, &sc->model, ptype, gi, pi, ci, load, err))
         return err->code;
     sf_equil *eq = &r->eq;
+    if (r->opt->progress && !eq->param_hook) {
+        eq->param_hook = count_eval;
+        eq->param_hook_data = r->opt->progress;
+    }
     sf_reactions_init(&r->reac, ptype == SF_PARAM_DISPLACEMENT ? pi : -1);
     if (s->constraints == SF_CONSTRAINTS_PENALTY)
         sf_equil_use_penalty(eq, s->penalty_rotation, s->penalty_translation);
@@ -360,10 +440,14 @@ int run_equilibrium(run_ctx *r)
         free(y0);
         return err->code;
     }
+    sf_progress_phase(r->opt->progress, 0, "run: the first point of the path, from p = %g%s", start,
+                      F0norm <= flat_tol ? " (the flat state)" : "");
     int direct = strcmp(flat_start, "direct") == 0;
     int sparse = strcmp(flat_start, "sparse") == 0;   /* flatstart_sparse.h */
+    int multipliers = strcmp(flat_start, "multipliers") == 0;   /* start.h */
     if (!direct && (eq->pz ? sc->topo.nivertices > 0 : eq->nloop > 0) && F0norm <= flat_tol) {
-        if (start_at_flat(r, y0, start, end, step, dir, depth, sparse, flat_angle, &rc)) {
+        if (multipliers ? start_by_multipliers(r, y0, start, end, dir, flat_angle, &rc)
+                        : start_at_flat(r, y0, start, end, step, dir, depth, sparse, flat_angle, &rc)) {
             free(y0);
             return rc;
         }

@@ -15,6 +15,7 @@
 #include "reactions.h"
 #include "scene.h"
 #include "stability.h"
+#include "validity.h"
 #include "vtk.h"
 
 #ifndef PACKAGE_VERSION
@@ -37,6 +38,7 @@ typedef struct run_ctx {
     long npoints;
     int failed;
     double s_offset;      /* arclength before the engine's first point */
+    double cpu_path0;     /* process CPU seconds when the path after its start began (0: not yet) */
     cont_solver *solver;
     /* stability */
     int do_stab, nev;
@@ -72,6 +74,15 @@ typedef struct run_ctx {
      * checked at every written point */
     double drop_max;      /* largest scaled residual of a dropped row */
     long drop_bad;        /* points where it exceeded the Newton tolerance */
+    /* physical validity of every point written (validity.h): the warning
+     * column of branch.tsv, and the summary at the end of the run */
+    sf_validity *val;
+    long val_beyond_rows, val_cross_rows;  /* rows with folds beyond 180 deg, crossings */
+    long val_first_beyond, val_first_cross;  /* their first rows (-1: none) */
+    sf_validity_report val_worst_beyond;   /* the row with the fold farthest beyond */
+    sf_validity_report val_worst_cross;    /* the row with the deepest crossing */
+    long val_worst_beyond_row, val_worst_cross_row;
+    double val_worst_beyond_p, val_worst_cross_p;
     /* "auto" chose the fold formulation for a small sheet with loops
      * (choose_keys), and its flat start found no first point: run.c runs
      * the study again with the sparse pose start */
@@ -94,7 +105,14 @@ int run_write_point(run_ctx *r, const cont_point *pt);
 /* run_point.c: a note on a branch, for branch.tsv's header and the terminal. */
 void run_branch_note(run_ctx *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
+/* run_point.c: the physical-validity summary of the run (validity.h):
+ * one line, "" when every point is valid. */
+void run_validity_summary(const run_ctx *r, char *buf, size_t size);
+
 /* run_output.c: write DIR/branch.tsv, stats.csv, special.tsv and the rest. */
 int run_write_outputs(run_ctx *r);
+
+/* CPU seconds of the process so far (user + system, every thread). */
+double run_cpu_seconds(void);
 
 #endif

@@ -1,13 +1,21 @@
 /* run_output.c - `smoothfold run`: the files of an equilibrium path, written
  * from the rows gathered point by point (run_point.c): DIR/branch.tsv,
  * stats.csv, special.tsv, reactions.tsv, shapes.pvd, folded.fold, study.cfg
- * and the reference comparison (docs/output-format.md). */
+ * and the reference comparison (docs/reference/output-files.md). */
 #include <stdio.h>
 #include <stdlib.h>
+#include <time.h>
 
 #include "equilibrium_poses.h"
 #include "run_impl.h"
 #include "study.h"
+
+double run_cpu_seconds(void)
+{
+    struct timespec t;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) != 0) return 0.0;
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
 
 int run_write_outputs(run_ctx *r)
 {
@@ -40,8 +48,11 @@ int run_write_outputs(run_ctx *r)
     else if (r->eq.pz && sf_peq_rows_rank(&r->eq) >= 0 && sf_peq_rows_rank(&r->eq) < 6 * r->eq.m->nfolds)
         sf_outbuf_printf(&out, "# pose rows: all %d fold rows kept: at a generic state they have "
                          "rank %d = the unknowns, so the dependent ones are equations of their own "
-                         "(more rows than unknowns), not identities (docs/formulations.md)\n",
+                         "(more rows than unknowns), not identities (docs/design/model.md)\n",
                          6 * r->eq.m->nfolds, sf_peq_rows_rank(&r->eq));
+    char vline[1500];
+    run_validity_summary(r, vline, sizeof vline);
+    if (vline[0]) sf_outbuf_printf(&out, "# warning: %s\n", vline);
     if (r->do_stab && r->step_bound)
         sf_outbuf_printf(&out, "# step bound: %ld steps shortened to end between two predicted "
                          "eigenvalue crossings (analysis.step_bound)\n", r->nbound);
@@ -57,11 +68,21 @@ int run_write_outputs(run_ctx *r)
     sf_outbuf_numbered_columns(&out, "eig", r->nev);
     sf_outbuf_printf(&out, "\ttype");
     sf_outbuf_numbered_columns(&out, "theta", s->nfolds);
-    sf_outbuf_printf(&out, "\n");
+    sf_outbuf_printf(&out, "\twarning\n");
     if (r->rows.n) sf_outbuf_printf(&out, "%.*s", (int)r->rows.n, r->rows.s);
     WRITE("branch.tsv", out);
     out.n = 0;
     sf_outbuf_printf(&out, "# smoothfold %s per-step solver statistics for %s\n", PACKAGE_VERSION, s->name);
+    if (r->cpu_path0 > 0)
+        sf_outbuf_printf(&out, "# CPU time: start %.3f s (reading, set-up and the start up to the path's "
+                         "first point), path %.3f s (the path after it: corrector, stability, "
+                         "special points, output)\n", r->cpu_path0, run_cpu_seconds() - r->cpu_path0);
+    cont_factor_stats fs;
+    if (r->solver && cont_get_factor_stats(r->solver, &fs) == 0)
+        sf_outbuf_printf(&out, "# corrector's last factorisation (MUMPS): %s of order %ld, %.0f entries "
+                         "in its factors, %.4g Mflop, %ld delayed pivots\n",
+                         fs.ldlt ? "LDL^T of Jy" : "LU of the bordered matrix", fs.n, fs.entries,
+                         1e-6 * fs.flops, fs.delayed);
     sf_outbuf_printf(&out, "point,branch,p,ds,newton,residual_evals,jacobian_evals,retries,locate_points,wall_s,factorisations\n");
     if (r->stats.n) sf_outbuf_printf(&out, "%.*s", (int)r->stats.n, r->stats.s);
     WRITE("stats.csv", out);

@@ -1,7 +1,8 @@
 /* run_point.c - `smoothfold run`, one solved point of the equilibrium path:
  * its stability, the Morse-index check and branch-point refinement
  * (bifurcation.h), and its rows of branch.tsv, special.tsv and stats.csv, its
- * shape, its reference comparison and its progress line. */
+ * shape, its physical validity (validity.h), its reference comparison and
+ * its progress line. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -9,6 +10,7 @@
 #include <string.h>
 
 #include "equilibrium_poses.h"
+#include "progress.h"
 #include "run_impl.h"
 
 /* Probe displacements of a state. */
@@ -94,6 +96,77 @@ static int check_point(run_ctx *r, const cont_point *pt, double sarc, double loa
     return SF_OK;
 }
 
+/* The physical validity of a point (validity.h) and its warning field:
+ * "" or a comma-separated list of "beyond180" (a fold beyond +-180
+ * degrees) and "crossing" (parts of the sheet through each other). */
+static int validity_field(run_ctx *r, const cont_point *pt, char *field, size_t size)
+{
+    const sf_model *m = r->eq.m;
+    field[0] = '\0';
+    if (!r->val) {
+        if (sf_validity_create(m, m->study->samples, &r->val, r->err)) return r->err->code;
+        r->val_first_beyond = r->val_first_cross = -1;
+    }
+    sf_validity_report rep;
+    if (sf_validity_check(r->val, pt->y, 0, &rep, r->err)) {
+        sf_error_prefix(r->err, "row %ld (branch %d, p = %.10g)", r->npoints, r->bif.branch, pt->p);
+        return r->err->code;
+    }
+    if (rep.nbeyond) {
+        snprintf(field, size, "beyond180");
+        if (r->val_first_beyond < 0) r->val_first_beyond = r->npoints;
+        if (!r->val_beyond_rows++ || fabs(rep.beyond_angle) > fabs(r->val_worst_beyond.beyond_angle)) {
+            r->val_worst_beyond = rep;
+            r->val_worst_beyond_row = r->npoints;
+            r->val_worst_beyond_p = pt->p;
+        }
+    }
+    if (rep.ncross) {
+        size_t L = strlen(field);
+        snprintf(field + L, size - L, "%scrossing", L ? "," : "");
+        if (r->val_first_cross < 0) r->val_first_cross = r->npoints;
+        if (!r->val_cross_rows++ || rep.cross_sep > r->val_worst_cross.cross_sep) {
+            r->val_worst_cross = rep;
+            r->val_worst_cross_row = r->npoints;
+            r->val_worst_cross_p = pt->p;
+        }
+    }
+    return SF_OK;
+}
+
+void run_validity_summary(const run_ctx *r, char *buf, size_t size)
+{
+    buf[0] = '\0';
+    if (!r->val_beyond_rows && !r->val_cross_rows) return;
+    const sf_model *m = r->eq.m;
+    size_t L = 0;
+    L += snprintf(buf + L, size - L, "physically invalid shapes:");
+    if (r->val_beyond_rows) {
+        const sf_validity_report *w = &r->val_worst_beyond;
+        char f[200];
+        sf_topology_fold_name(m->study, w->beyond_fold, f, sizeof f);
+        L += snprintf(buf + L, L < size ? size - L : 0, " %ld row%s with folds beyond +-180 degrees "
+                      "(from row %ld; farthest %s at %.1f degrees, row %ld, p = %.6g)",
+                      r->val_beyond_rows, r->val_beyond_rows == 1 ? "" : "s", r->val_first_beyond, f,
+                      w->beyond_angle * 180 / M_PI, r->val_worst_beyond_row, r->val_worst_beyond_p);
+    }
+    if (r->val_cross_rows) {
+        const sf_validity_report *w = &r->val_worst_cross;
+        char a[300], b[300];
+        sf_validity_part_name(r->val, w->cross_part[0], a, sizeof a);
+        sf_validity_part_name(r->val, w->cross_part[1], b, sizeof b);
+        L += snprintf(buf + L, L < size ? size - L : 0, "%s %ld row%s where the sheet passes through "
+                      "itself (from row %ld; deepest at row %ld, p = %.6g: %s through %s, material "
+                      "%.3g m apart in the flat sheet meeting at (%.4g, %.4g, %.4g) m)",
+                      r->val_beyond_rows ? ";" : "", r->val_cross_rows, r->val_cross_rows == 1 ? "" : "s",
+                      r->val_first_cross, r->val_worst_cross_row, r->val_worst_cross_p,
+                      a, b, w->cross_sep, w->cross_at[0], w->cross_at[1], w->cross_at[2]);
+    }
+    if (L < size)
+        snprintf(buf + L, size - L, " (warning column of branch.tsv; docs/reference/output-files.md, "
+                 "\"Physical validity\")");
+}
+
 int run_on_point(const cont_point *pt, void *data)
 {
     run_ctx *r = data;
@@ -125,6 +198,10 @@ int run_on_point(const cont_point *pt, void *data)
     }
     sf_equil *eq = &r->eq;
     if (r->do_stab) {
+        sf_progress_phase(r->opt->progress, 0, "run: stability of point %ld (p = %.6g, %d unknowns)",
+                          r->npoints, pt->p, eq->n);
+        /* the engine's LDL^T of the corrector's Jacobian at this point */
+        if (pt->jy_inertia) sf_stab_give_inertia(&r->stab, pt->jy_neg, pt->jy_null);
         if (sf_stab_eval(&r->stab, eq, pt->y, pt->p, r->err)) {
             r->failed = 1;
             return 1;
@@ -187,7 +264,7 @@ int run_write_point(run_ctx *r, const cont_point *pt)
         if (!(d <= tol) && !r->drop_bad++)
             run_branch_note(r, "row %ld (branch %d, p = %.10g): a dropped pose constraint row has "
                         "residual %.3g, above the Newton tolerance %.3g: the kept rows do not "
-                        "imply it here (docs/formulations.md; solver.pose_rows = \"all\" keeps "
+                        "imply it here (docs/design/model.md; solver.pose_rows = \"all\" keeps "
                         "every row)", r->npoints, r->bif.branch, pt->p, d, tol);
     }
     double load = eq->param == SF_PARAM_LOAD ? pt->p : eq->load;
@@ -200,7 +277,8 @@ int run_write_point(run_ctx *r, const cont_point *pt)
     sf_outbuf *b = &r->rows;
     double sarc = pt->s + r->s_offset;
     const double e[3] = {Pi, rr, rt};
-    if (check_point(r, pt, sarc, load, e) ||
+    char warning[40];
+    if (check_point(r, pt, sarc, load, e) || validity_field(r, pt, warning, sizeof warning) ||
         (eq->nsup && sf_reactions_add(&r->reac, eq, r->npoints, pt->y, pt->p, load, r->err))) {
         r->failed = 1;
         return 1;
@@ -217,7 +295,7 @@ int run_write_point(run_ctx *r, const cont_point *pt)
     stab_fields(r, b);
     sf_outbuf_printf(b, "\t%s", pt->label);
     for (int i = 0; i < m->nfolds; i++) sf_outbuf_printf(b, "\t%.12g", pt->y[m->qoff[i]]);
-    sf_outbuf_printf(b, "\n");
+    sf_outbuf_printf(b, "\t%s\n", warning);
     cont_stats last;
     memset(&last, 0, sizeof last);
     if (r->solver) cont_get_stats(r->solver, &last, NULL);
@@ -286,9 +364,13 @@ int run_write_point(run_ctx *r, const cont_point *pt)
             fprintf(stderr, "  %s", r->stab.res.stable < 0 ? "unknown "   /* see the note */
                                     : r->stab.res.stable ? "stable  " : "unstable");
         if (r->bif.nbranches > 1 || r->bif.max_depth > 0) fprintf(stderr, "  branch %d", r->bif.branch);
-        fprintf(stderr, "%s%s\n", pt->label[0] ? "  " : "", pt->label);
+        fprintf(stderr, "%s%s%s%s\n", pt->label[0] ? "  " : "", pt->label, warning[0] ? "  " : "",
+                warning);
     }
     r->npoints++;
     sf_bif_point_written(&r->bif, pt, sarc);
+    sf_progress_phase(r->opt->progress, 0, "run: following the path: point %ld, from p = %.6g",
+                      r->npoints, pt->p);
+    if (!r->opt->quiet) sf_progress_printed(r->opt->progress);
     return 0;
 }

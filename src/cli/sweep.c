@@ -2,7 +2,7 @@
  * each in a child process (src/analysis/sweep.h).  Started by an MPI
  * launcher, it replaces itself by smoothfold-sweep-mpi (sweep_mpi.c): the
  * smoothfold program itself does not link MPI (MUMPS's sequential build
- * brings its own MPI stubs).  docs/sweep.md. */
+ * brings its own MPI stubs).  docs/guides/sweeps.md. */
 #include "commands.h"
 
 #include <errno.h>

@@ -33,7 +33,7 @@ static const char *usage_text =
     "Under mpirun (or another MPI launcher) rank 0 hands the variants out to\n"
     "all ranks, itself included.  Exit status: 0 every variant ran (failed\n"
     "variants are rows with their status), 1 bad input, 2 usage error, 4 file\n"
-    "error, 128+signal when stopped by SIGTERM or SIGINT.  docs/sweep.md.\n";
+    "error, 128+signal when stopped by SIGTERM or SIGINT.  docs/guides/sweeps.md.\n";
 
 static int usage_error(const char *msg)
 {

@@ -1,6 +1,6 @@
 /* sweep_cli.h - what `smoothfold sweep` (sweep.c, serial) and
  * `smoothfold-sweep-mpi` (sweep_mpi.c) share: options, exit statuses,
- * where the programs are.  docs/sweep.md. */
+ * where the programs are.  docs/guides/sweeps.md. */
 #ifndef SF_SWEEP_CLI_H
 #define SF_SWEEP_CLI_H
 

@@ -13,7 +13,7 @@
  * same thing, `mpirun -n N smoothfold sweep STUDY.cfg ...` (smoothfold
  * execs this program when it finds an MPI launcher's variables).  Waiting
  * is done by polling with short sleeps, not in blocking MPI calls, which
- * spin and would take a core from the variants.  docs/sweep.md. */
+ * spin and would take a core from the variants.  docs/guides/sweeps.md. */
 #include <mpi.h>
 
 #include <errno.h>

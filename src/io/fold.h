@@ -9,7 +9,7 @@
  * state: frame_classes ["foldedForm"], frame_inherit true, frame_parent 0,
  * 3-D vertices_coords, edges_foldAngle in degrees (FOLD's sign: valley
  * positive, 0 on boundary edges), and smoothfold:p, smoothfold:load,
- * smoothfold:stable, smoothfold:branch.  docs/fold-format.md. */
+ * smoothfold:stable, smoothfold:branch.  docs/guides/importing-patterns.md. */
 #ifndef SF_FOLD_H
 #define SF_FOLD_H
 
@@ -38,7 +38,7 @@ int sf_fold_write(const sf_cpattern *cp, const char *creator, int nframes,
  * around each vertex separate the faces): it is placed at the mean of its
  * images under the rigid motions of the faces around it.  The fold angle
  * of an edge is the smooth fold's total turning theta (degrees, valley
- * positive); 0 on boundary edges.  docs/fold-format.md. */
+ * positive); 0 on boundary edges.  docs/guides/importing-patterns.md. */
 struct sf_model;
 typedef struct sf_foldrec {
     const struct sf_model *m;

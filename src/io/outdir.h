@@ -1,6 +1,6 @@
 /* outdir.h - the output directory of a run.
  *
- * A run writes into DIR a fixed set of files (docs/output-format.md).  So
+ * A run writes into DIR a fixed set of files (docs/reference/output-files.md).  So
  * that old and new results never stand side by side, sf_outdir_prepare
  * removes smoothfold's own earlier outputs from DIR (branch.tsv, shapes/,
  * shapes_branch*.pvd, compare*.tsv, plots, left-over *.tmp, ...) and keeps

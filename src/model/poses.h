@@ -10,7 +10,7 @@
  *                      one, in face order): phi (3, rotation vector) then
  *                      xf (3, position of the face's reference point o_f).
  * The face map is X_f(y) = xf + R_f (y - o_f), R_f = exp([phi]x) (the
- * reference rotation Rbar_f is the identity, see docs/formulations.md), o_f
+ * reference rotation Rbar_f is the identity, see docs/design/model.md), o_f
  * the centroid of the face body.  The fixed face has R = I, xf = o_f.
  *
  * Constraints: 6 per fold i (right face r, left face l), rows 6 i .. 6 i + 5:

@@ -1,6 +1,6 @@
 /* assignment.c - folds[].assignment ("M" mountain, "V" valley) against the
  * signs of the fold's rest angles.  The sign convention is FOLD's: a
- * valley fold has a positive fold angle (docs/study-format.md, "Sign of
+ * valley fold has a positive fold angle (docs/reference/study-keys.md, "Sign of
  * a fold angle"), so a mountain fold driven to a positive rest angle is a
  * sign error, caught here when the study is loaded. */
 #include <math.h>
@@ -24,11 +24,11 @@ int sf_study_check_assignments(const sf_study *s, sf_error *err)
         if (f->rest_angle * sg < 0)
             return sf_study_fail(s, err, SF_EINPUT, key,
                                  "a %s fold with rest_angle %g rad: wrong sign (valley positive, "
-                                 "docs/study-format.md)", what, f->rest_angle);
+                                 "docs/reference/study-keys.md)", what, f->rest_angle);
         if (f->group >= 0 && s->groups[f->group].rest_angle * sg < 0)
             return sf_study_fail(s, err, SF_EINPUT, key,
                                  "a %s fold in actuation group '%s' whose rest_angle is %g rad: wrong "
-                                 "sign (valley positive, docs/study-format.md)", what,
+                                 "sign (valley positive, docs/reference/study-keys.md)", what,
                                  s->groups[f->group].name, s->groups[f->group].rest_angle);
     }
     return SF_OK;

@@ -1,8 +1,9 @@
 /* cp_from_study.c - a study's crease pattern as FOLD sees it (cpattern.h):
  * the study's vertices with their names, its folds in study order, then
  * the outline edges of the topology (with the vertices it inserted), the
- * facet edges (F), and the crease-pattern faces (not with facet edges: the
- * rigid faces do not split at them, FOLD's faces would). */
+ * facet edges (F: faces.facets, or with faces.bending the facet hinges,
+ * which are folds), and the crease-pattern faces (not with rigid faces and
+ * facet edges: the rigid faces do not split at them, FOLD's faces would). */
 #include "cpattern.h"
 
 #include <math.h>
@@ -18,6 +19,7 @@
 static char fold_sign(const sf_study *s, int i, double *angle, sf_error *err)
 {
     const sf_fold_def *f = &s->folds[i];
+    if (f->facet) { *angle = NAN; return 'F'; }   /* a bending face's facet hinge */
     double r = f->group >= 0 ? s->groups[f->group].rest_angle : f->rest_angle;
     char key[64];
     snprintf(key, sizeof key, "folds[%d].assignment", i);
@@ -46,9 +48,9 @@ int sf_cp_from_study(const sf_study *s, const sf_topology *t, sf_cpattern *cp,
      * others follow the folds (and import joins them again) */
     int *cut = NULL, ncut = 0;
     double *cpar = NULL;
-    if (s->nfacets) {
-        cut = malloc(sizeof *cut * (size_t)(2 * s->nfacets + 1));
-        cpar = malloc(sizeof *cpar * (size_t)(2 * s->nfacets + 1));
+    if (s->nfacet_edges) {
+        cut = malloc(sizeof *cut * (size_t)(2 * s->nfacet_edges + 1));
+        cpar = malloc(sizeof *cpar * (size_t)(2 * s->nfacet_edges + 1));
         if (!cut || !cpar) { free(cut); free(cpar); goto oom; }
     }
     int *piece_a = NULL, *piece_b = NULL, *piece_f = NULL, npiece = 0, cappiece = 0;
@@ -59,9 +61,9 @@ int sf_cp_from_study(const sf_study *s, const sf_topology *t, sf_cpattern *cp,
         const double *pa = s->vertices[s->folds[i].a].x, *pb = s->vertices[s->folds[i].b].x;
         double d[2] = {pb[0] - pa[0], pb[1] - pa[1]}, l2 = d[0] * d[0] + d[1] * d[1];
         ncut = 0;
-        for (int k = 0; k < s->nfacets; k++)
+        for (int k = 0; k < s->nfacet_edges; k++)
             for (int j = 0; j < 2; j++) {
-                int v = s->facets[k][j];
+                int v = s->facet_edges[k][j];
                 if (v == s->folds[i].a || v == s->folds[i].b) continue;
                 const double *q = s->vertices[v].x;
                 double t = ((q[0] - pa[0]) * d[0] + (q[1] - pa[1]) * d[1]) / l2;
@@ -109,21 +111,23 @@ int sf_cp_from_study(const sf_study *s, const sf_topology *t, sf_cpattern *cp,
         for (;;) {
             int next = b;
             double tbest = 1, tprev = ((s->vertices[prev].x[0] - pa[0]) * d[0] + (s->vertices[prev].x[1] - pa[1]) * d[1]) / l2;
-            for (int f = 0; f < s->nfacets; f++)
+            for (int f = 0; f < s->nfacet_edges; f++)
                 for (int j = 0; j < 2; j++) {
-                    const double *q = s->vertices[s->facets[f][j]].x;
+                    const double *q = s->vertices[s->facet_edges[f][j]].x;
                     double tq = ((q[0] - pa[0]) * d[0] + (q[1] - pa[1]) * d[1]) / l2;
                     double off = fabs((q[0] - pa[0]) * d[1] - (q[1] - pa[1]) * d[0]) / sqrt(l2);
-                    if (tq > tprev + 1e-9 && tq < tbest - 1e-9 && off <= 1e-9 * sqrt(l2)) { tbest = tq; next = s->facets[f][j]; }
+                    if (tq > tprev + 1e-9 && tq < tbest - 1e-9 && off <= 1e-9 * sqrt(l2)) { tbest = tq; next = s->facet_edges[f][j]; }
                 }
             if (sf_cp_add_edge(cp, prev, next, 'B', NAN) < 0) goto oom;
             if (next == b) break;
             prev = next;
         }
     }
-    for (int k = 0; k < s->nfacets; k++)
-        if (sf_cp_add_edge(cp, s->facets[k][0], s->facets[k][1], 'F', 0.0) < 0) goto oom;
-    if (s->nfacets) return SF_OK;   /* the topology's faces ignore the facet edges */
+    if (s->nfacet_edges && !s->bending) {   /* bending faces: the facet hinges are the F edges */
+        for (int k = 0; k < s->nfacet_edges; k++)
+            if (sf_cp_add_edge(cp, s->facet_edges[k][0], s->facet_edges[k][1], 'F', 0.0) < 0) goto oom;
+        return SF_OK;   /* the topology's rigid faces ignore the facet edges */
+    }
     int total = 0;
     for (int f = 0; f < t->nfaces; f++) total += t->faces[f].nverts;
     cp->face_start = malloc((size_t)(t->nfaces + 1) * sizeof *cp->face_start);

@@ -292,7 +292,7 @@ static void emit(const plan *p, sf_outbuf *b, const char *name)
         }
     }
     sf_outbuf_printf(b, "#\n# Folds: mountain (assignment \"M\") and valley (\"V\") by FOLD's sign\n"
-                     "# convention, valley positive (docs/study-format.md).  Setbacks were sized\n"
+                     "# convention, valley positive (docs/reference/study-keys.md).  Setbacks were sized\n"
                      "# so that no two bands overlap (1.25 x the distance at which their edges\n"
                      "# meet, at least 0.1 x the width); change width and setbacks together.\n"
                      "# SI units: m, N, Pa, kg/m^3, rad.\n\n");
@@ -307,10 +307,31 @@ static void emit(const plan *p, sf_outbuf *b, const char *name)
     for (int k = 0; k < p->noutline; k++)
         sf_outbuf_printf(b, "%s\"%s\"", k ? ", " : "", p->vname[p->outline[k]]);
     sf_outbuf_printf(b, "]; };\n\n");
+    int nflat = p->nfacet;   /* F edges not made folds: facet edges of bending faces */
+    int plate = o->bending || nflat;
     sf_outbuf_printf(b, "materials = {\n"
                      "  fold = { E = 15.2e6; nu = 0.45; thickness = 1.8e-3; density = 1200.0; };\n"
-                     "  face = { thickness = 2.0e-3; density = 1040.0; };\n"
-                     "};\nfaces = { material = \"face\"; };\n\n");
+                     "  face = { %sthickness = 2.0e-3; density = 1040.0; };\n"
+                     "};\n", plate ? "E = 2.0e9; nu = 0.3; " : "");
+    if (!plate) {
+        sf_outbuf_printf(b, "faces = { material = \"face\"; };\n\n");
+    } else {
+        if (nflat)
+            sf_outbuf_printf(b, "# The pattern's flat (F) edges are the facet edges of its faces: with\n"
+                             "# bending = true the faces bend along them (docs/guides/bending-faces.md).\n");
+        else
+            sf_outbuf_printf(b, "# This pattern folds only if its faces bend (docs/guides/bending-faces.md).\n");
+        sf_outbuf_printf(b, "faces = {\n  material = \"face\";\n  bending = %s;\n", o->bending ? "true" : "false");
+        if (nflat) {
+            sf_outbuf_printf(b, "  facets = [");
+            for (int k = 0; k < p->nfacet; k++) {
+                const sf_cp_edge *ed = &cp->e[p->facet_edge[k]];
+                sf_outbuf_printf(b, "%s\"%s %s\"", k ? ", " : "", p->vname[ed->a], p->vname[ed->b]);
+            }
+            sf_outbuf_printf(b, "];\n");
+        }
+        sf_outbuf_printf(b, "};\n\n");
+    }
     if (p->halved)
         sf_outbuf_printf(b, "# The band width is the automatic one halved %d time%s: wider bands did not fit\n"
                          "# the faces (their bodies between the bands would be empty, or bands overlap).\n",
@@ -346,17 +367,6 @@ static void emit(const plan *p, sf_outbuf *b, const char *name)
                          ed->assign == 'U' ? "   # unassigned" : ed->assign == 'F' ? "   # flat" : "");
     }
     sf_outbuf_printf(b, ");\n\n");
-    if (p->nfacet) {
-        sf_outbuf_printf(b, "# Facet edges (FOLD \"F\", SVG yellow): lines across faces that are no folds;\n"
-                         "# kept for the bending of faces, the rigid faces ignore them (docs/study-format.md).\n"
-                         "facets = (\n");
-        for (int k = 0; k < p->nfacet; k++) {
-            const sf_cp_edge *ed = &cp->e[p->facet_edge[k]];
-            sf_outbuf_printf(b, "  { from = \"%s\"; to = \"%s\"; }%s\n", p->vname[ed->a], p->vname[ed->b],
-                             k + 1 < p->nfacet ? "," : "");
-        }
-        sf_outbuf_printf(b, ");\n\n");
-    }
     sf_outbuf_printf(b, "fixed_face = [%s, %s];   # the face nearest the centroid\n\n",
                      real(r1, p->fixed[0]), real(r2, p->fixed[1]));
     sf_outbuf_printf(b, "probes = ( { name = \"tip\"; at = [%s, %s]; } );   # the face farthest from the fixed one\n\n",

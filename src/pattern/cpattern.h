@@ -8,7 +8,7 @@
  *   generator or FOLD file --> sf_cpattern --> commented study .cfg
  *   study (+ topology)      --> sf_cpattern --> FOLD file
  *
- * Sign convention (FOLD's, and the study's: docs/study-format.md): a
+ * Sign convention (FOLD's, and the study's: docs/reference/study-keys.md): a
  * valley fold has a positive fold angle, a mountain fold a negative one.
  * Angles here are in degrees, as in FOLD's edges_foldAngle.
  */
@@ -124,6 +124,8 @@ typedef struct sf_cp_study_opts {
     int gravity;              /* add gravity (stage 1) */
     double load;              /* point load [N] downwards at the probe (0: none) */
     const char *drive;        /* actuation group driven by p (analysis.group), NULL: all */
+    int bending;              /* faces.bending = true, with E and nu in the face
+                                 material (twist, hypar) */
 } sf_cp_study_opts;
 
 void sf_cp_study_opts_default(sf_cp_study_opts *o);

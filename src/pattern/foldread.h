@@ -2,7 +2,7 @@
  * FOLD 1.x (JSON, read with jansson; fold_read.c, fold_plane.c) and SVG in
  * Origami Simulator's colour convention (XML, read with libxml2;
  * svg_read.c, svg_path.c), into an sf_cpattern (cpattern.h) scaled to
- * metres (import.c).  docs/fold-format.md, docs/svg-format.md.
+ * metres (import.c).  docs/guides/importing-patterns.md, docs/reference/svg-format.md.
  *
  * FOLD: vertices_coords (2-D, or 3-D lying in any plane: rotated into
  * x-y), edges_vertices, edges_assignment (B, M, V, F, U; C and J refused;

@@ -1,5 +1,5 @@
 /* generators.c - Miura-ori, Yoshimura and waterbomb crease patterns
- * (generators.h, docs/patterns.md). */
+ * (generators.h, docs/guides/patterns.md). */
 #include "generators.h"
 
 #include <math.h>
@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char *sf_gen_names(void) { return "miura, yoshimura, waterbomb"; }
+const char *sf_gen_names(void) { return "miura, yoshimura, waterbomb, twist, hypar"; }
 
 int sf_gen_defaults(const char *name, sf_gen_opts *o, sf_error *err)
 {
@@ -20,6 +20,12 @@ int sf_gen_defaults(const char *name, sf_gen_opts *o, sf_error *err)
         o->a = 0.06; o->b = 0.03;
     } else if (strcmp(name, "waterbomb") == 0) {
         o->a = 0.06; o->b = 0.03;
+    } else if (strcmp(name, "twist") == 0) {
+        o->m = o->n = 1;
+        o->a = 0.1; o->b = 0.04; o->angle = 22.5;
+    } else if (strcmp(name, "hypar") == 0) {
+        o->m = o->n = 4;
+        o->a = 0.12; o->b = 0.12;
     } else {
         return sf_fail(err, SF_EINPUT, "unknown pattern '%s' (patterns: %s)", name, sf_gen_names());
     }
@@ -192,6 +198,102 @@ static int waterbomb(const sf_gen_opts *o, sf_cpattern *cp, sf_error *err)
     return SF_OK;
 }
 
+/* Square twist: a square sheet of side a, a central square of side b
+ * turned by the twist angle, and from each of its edges a pleat of two
+ * parallel creases to the sheet's side facing it (9 quadrilateral faces:
+ * the square, 4 pleats, 4 corners).  Every vertex of the square has
+ * sectors 90, 90 + angle, 90, 90 - angle degrees: flat-foldable (Kawasaki),
+ * not rigidly foldable.  The square's edges are valleys; of the two pleat
+ * creases at a vertex the one bounding the small sector (90 - angle) is a
+ * mountain (big-little-big), the other a valley (Maekawa: 3 V, 1 M). */
+static int twist(const sf_gen_opts *o, sf_cpattern *cp, sf_error *err)
+{
+    double S = o->a, c = o->b, al = o->angle * M_PI / 180, h = 0.5 * S, tol = 1e-9 * S;
+    double P[4][2];
+    static const double corner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    for (int k = 0; k < 4; k++) {
+        double x = 0.5 * c * corner[k][0], y = 0.5 * c * corner[k][1];
+        P[k][0] = h + cos(al) * x - sin(al) * y;
+        P[k][1] = h + sin(al) * x + cos(al) * y;
+        if (P[k][0] <= tol || P[k][0] >= S - tol || P[k][1] <= tol || P[k][1] >= S - tol)
+            return sf_fail(err, SF_EINPUT, "twist: the central square (side %g m turned by %g degrees) "
+                           "does not fit inside the sheet (side %g m)", c, o->angle, S);
+    }
+    int iv[4];
+    for (int k = 0; k < 4; k++) {
+        char nm[16];
+        snprintf(nm, sizeof nm, "c%d", k);
+        OOM(iv[k] = sf_cp_add_vertex(cp, snap(P[k][0]), snap(P[k][1]), nm));
+    }
+    for (int k = 0; k < 4; k++) OOM(sf_cp_add_edge(cp, iv[k], iv[(k + 1) % 4], 'V', NAN));
+    /* pleat of edge k: direction u_k = (0,-1) turned by k x 90 degrees */
+    static const double u[4][2] = {{0, -1}, {1, 0}, {0, 1}, {-1, 0}};
+    for (int k = 0; k < 4; k++)
+        for (int e = 0; e < 2; e++) {
+            int v = (k + e) % 4;
+            double bx = u[k][0] ? (u[k][0] > 0 ? S : 0.0) : P[v][0];
+            double by = u[k][1] ? (u[k][1] > 0 ? S : 0.0) : P[v][1];
+            int b = sf_cp_vertex_at(cp, snap(bx), snap(by), tol);
+            OOM(b);
+            /* for a ccw twist the small sector at a vertex lies between
+             * the square's edge and the pleat crease of the edge for which
+             * the vertex is the second one (e = 1) */
+            char as = (al > 0) == (e == 1) ? 'M' : 'V';
+            OOM(sf_cp_add_edge(cp, iv[v], b, as, NAN));
+        }
+    OOM(sf_cp_vertex_at(cp, 0.0, 0.0, tol));
+    OOM(sf_cp_vertex_at(cp, S, 0.0, tol));
+    OOM(sf_cp_vertex_at(cp, S, S, tol));
+    OOM(sf_cp_vertex_at(cp, 0.0, S, tol));
+    if (rect_boundary(cp, S, S, tol, err)) return err->code;
+    snprintf(cp->description, sizeof cp->description,
+             "square twist, sheet %g m, central square %g m turned by %g degrees", S, c, o->angle);
+    return SF_OK;
+}
+
+/* Hyperbolic paraboloid (hypar): a square sheet of side a, m rings of
+ * concentric squares (ring j of half-side j a / (2 m); ring m is the
+ * outline), alternately mountain (odd j) and valley, and the diagonal
+ * creases from each ring's corners to the next ring's; the innermost
+ * square is one face.  A diagonal segment from ring j to ring j + 1 takes
+ * ring j + 1's assignment, so that every corner from ring 2 on has three
+ * creases of one kind and one of the other (Maekawa); the corners of ring
+ * 1 are of degree 3: the pattern folds only if its faces bend. */
+static int hypar(const sf_gen_opts *o, sf_cpattern *cp, sf_error *err)
+{
+    int R = o->m;
+    if (R < 2) return sf_fail(err, SF_EINPUT, "hypar: %d ring: at least 2 (ring 1 the central square, the last the outline)", R);
+    double S = o->a, h = 0.5 * S, tol = 1e-9 * S;
+    static const double corner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    int *iv = malloc((size_t)(4 * R) * sizeof *iv);
+    if (!iv) return sf_fail(err, SF_ENOMEM, "out of memory");
+    for (int j = 1; j <= R; j++)
+        for (int k = 0; k < 4; k++) {
+            double r = j * S / (2.0 * R);
+            char nm[24];
+            snprintf(nm, sizeof nm, "r%d_%d", j, k);
+            iv[4 * (j - 1) + k] = sf_cp_add_vertex(cp, snap(h + r * corner[k][0]), snap(h + r * corner[k][1]), nm);
+            if (iv[4 * (j - 1) + k] < 0) { free(iv); return sf_fail(err, SF_ENOMEM, "out of memory"); }
+        }
+#define RING(j, k) iv[4 * ((j) - 1) + ((k) % 4)]
+    int rc = SF_OK;
+    for (int j = 1; j < R && !rc; j++) {
+        char a = j % 2 ? 'M' : 'V', anext = (j + 1) % 2 ? 'M' : 'V';
+        for (int k = 0; k < 4 && !rc; k++) {
+            if (sf_cp_add_edge(cp, RING(j, k), RING(j, k + 1), a, NAN) < 0
+                || sf_cp_add_edge(cp, RING(j, k), RING(j + 1, k), anext, NAN) < 0)
+                rc = sf_fail(err, SF_ENOMEM, "out of memory");
+        }
+    }
+#undef RING
+    free(iv);
+    if (rc) return rc;
+    if (rect_boundary(cp, S, S, tol, err)) return err->code;
+    snprintf(cp->description, sizeof cp->description,
+             "hyperbolic paraboloid (hypar), sheet %g m, %d rings", S, R);
+    return SF_OK;
+}
+
 int sf_generate(const char *name, const sf_gen_opts *o, sf_cpattern *cp, sf_error *err)
 {
     sf_cp_init(cp);
@@ -205,9 +307,18 @@ int sf_generate(const char *name, const sf_gen_opts *o, sf_cpattern *cp, sf_erro
         return sf_fail(err, SF_EINPUT, "miura: fold angle %g degrees: must be in (0, 180)", o->fold_angle);
     if (strcmp(name, "miura") == 0 && !(o->angle > 0 && o->angle < 90))
         return sf_fail(err, SF_EINPUT, "miura: sector angle %g degrees: must be in (0, 90)", o->angle);
-    snprintf(cp->title, sizeof cp->title, "%s-%dx%d", name, o->m, o->n);
+    if (strcmp(name, "twist") == 0 && !(o->angle > 0 && o->angle < 45))
+        return sf_fail(err, SF_EINPUT, "twist: twist angle %g degrees: must be in (0, 45)", o->angle);
+    if (strcmp(name, "twist") == 0)
+        snprintf(cp->title, sizeof cp->title, "twist");
+    else if (strcmp(name, "hypar") == 0)
+        snprintf(cp->title, sizeof cp->title, "hypar-%d", o->m);
+    else
+        snprintf(cp->title, sizeof cp->title, "%s-%dx%d", name, o->m, o->n);
     int rc = strcmp(name, "miura") == 0 ? miura(o, cp, err)
            : strcmp(name, "yoshimura") == 0 ? yoshimura(o, cp, err)
+           : strcmp(name, "twist") == 0 ? twist(o, cp, err)
+           : strcmp(name, "hypar") == 0 ? hypar(o, cp, err)
            : waterbomb(o, cp, err);
     if (rc) sf_cp_free(cp);
     return rc;

@@ -11,7 +11,7 @@ src_libsmoothfold_a_SOURCES += src/pattern/pattern.h \
 	src/pattern/topology.c src/pattern/topology.h src/pattern/topology_impl.h \
 	src/pattern/topology_geom.c src/pattern/topology_check.c src/pattern/topology_bodies.c \
 	src/pattern/topology_grid.c \
-	src/pattern/assignment.c \
+	src/pattern/assignment.c src/pattern/facets.c src/pattern/facets.h \
 	src/pattern/cpattern.c src/pattern/cpattern.h src/pattern/cp_study.c \
 	src/pattern/cp_from_study.c src/pattern/cp_clean.c \
 	src/pattern/foldread.h src/pattern/import.c src/pattern/fold_read.c \

@@ -38,6 +38,8 @@ typedef struct sf_fold_def {
     int material;             /* index into sf_study.materials */
     int group;                /* actuation group index, -1 if none */
     double rest_angle;        /* theta0 when not actuated [rad] (default 0) */
+    int facet;                /* 1: a facet hinge of a bending face (facets.c),
+                                 added after the study's own folds */
     int line;
 } sf_fold_def;
 
@@ -81,12 +83,19 @@ typedef struct sf_study {
     int nfolds;
     sf_fold_def *folds;
 
-    int nfacets;                /* facet edges (facets): lines across faces that */
-    int (*facets)[2];           /* are no folds; vertex indices [from, to] */
+    int nfacet_edges;           /* faces.facets: lines across faces that are no */
+    int (*facet_edges)[2];      /* folds; vertex indices [from, to] (facets.c) */
 
     int nmaterials;
     sf_material *materials;
     int face_material;          /* index, -1 when no face material is given */
+    /* bending faces (faces.bending, facets.c): each face split into rigid
+     * triangles joined by facet hinges, folds[nfolds - nfacets ..] */
+    int bending;
+    double bending_coefficient; /* C_B of the hinge stiffness */
+    double facet_width;         /* facet band width / shortest side of its face */
+    int nfacets;
+    int nraised;                /* fold ends whose setback the facets raised */
 
     double fixed_point[2];      /* a point inside the fixed face */
     int fixed_line;

@@ -1,4 +1,4 @@
-/* study.c - the study file (study.h, docs/study-format.md): the schema,
+/* study.c - the study file (study.h, docs/reference/study-keys.md): the schema,
  * sf_study_load / sf_study_free, lookups by name.  The other parts of the
  * reader are listed in study_impl.h.
  *
@@ -8,13 +8,14 @@
  * (unknown keys, types, finiteness, bounds, required keys, choices); the
  * semantic pass (study_fill.c) then resolves names and fills the sf_study
  * of pattern.h.  To add a key for a new module, add a row (and document it
- * in docs/study-format.md; the test checks that every row is mentioned
+ * in docs/reference/study-keys.md; the test checks that every row is mentioned
  * there).
  *
  * Path patterns: "a.b" a member of group a; "a.*" any member of a group of
  * free names (vertices, materials); "a[]" each element of list a.
  */
 #include "study_impl.h"
+#include "facets.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -59,7 +60,11 @@ static const sf_study_key schema[] = {
     {"materials.*.density",        NUM,   NONNEG,         0, 0,       NULL,          NULL, "kg/m^3", "density (required for materials in use when gravity or inertia is on)"},
 
     {"faces",                      G,     0,              0, 0,       NULL,          NULL, "-", "the rigid faces"},
-    {"faces.material",             STR,   REQ,            0, 0,       NULL,          NULL, "-", "material of the faces (thickness, density; needed for gravity)"},
+    {"faces.material",             STR,   REQ,            0, 0,       NULL,          NULL, "-", "material of the faces (thickness, density; needed for gravity; E and nu when they bend)"},
+    {"faces.bending",              BOOL,  0,              0, 0,       "false",       NULL, "-", "faces bend: each face is split into rigid triangles joined by facet hinges whose stiffness follows from the face material (docs/guides/bending-faces.md)"},
+    {"faces.bending_coefficient",  NUM,   POS,            0, 0,       "0.55",        NULL, "-", "C_B of the facet hinge stiffness C_B (L/t)^(1/3) E t^3 / (12 (1 - nu^2)) (Filipov et al. 2017; docs/guides/bending-faces.md)"},
+    {"faces.facet_width",          NUM,   SF_KEY_GT | SF_KEY_LE, 0, 0.25, "0.02", NULL, "-", "band width of a facet hinge as a fraction of the shortest side of its face"},
+    {"faces.facets",               NAMES, 0,              0, 0,       NULL,          NULL, "-", "facet edges given, each \"from to\" (two vertex names); faces without one are triangulated automatically (FOLD's F edges, written by import)"},
 
     {"defaults",                   G,     AUTO,           0, 0,       NULL,          NULL, "-", "fold settings used where a fold does not give its own"},
     {"defaults.width",             NUM,   POS,            0, 0,       NULL,          NULL, "m", "band width w"},
@@ -83,11 +88,6 @@ static const sf_study_key schema[] = {
     {"folds[].rest_angle",         NUM,   0,              0, 0,       NULL,          NULL, "rad", "stress-free fold angle (else defaults.rest_angle)"},
     {"folds[].assignment",         STR,   0,              0, 0,       NULL,          "M|V",   "-", "mountain or valley (valley positive): check rejects a rest angle of the other sign"},
     {"folds[].damping",            NUM,   POS,            0, 0,       NULL,          NULL, "J s", "dynamics: damping coefficient of the fold angle (else analysis.damping)"},
-
-    {"facets",                     LIST,  0,              0, 0,       NULL,          NULL, "-", "facet edges: straight lines across faces that are not folds (FOLD \"F\", SVG yellow), kept for the bending of faces; the rigid faces ignore them"},
-    {"facets[]",                   G,     0,              0, 0,       NULL,          NULL, "-", "one facet edge"},
-    {"facets[].from",              STR,   REQ,            0, 0,       NULL,          NULL, "-", "start vertex"},
-    {"facets[].to",                STR,   REQ,            0, 0,       NULL,          NULL, "-", "end vertex"},
 
     {"fixed_face",                 V2,    REQ,            0, 0,       NULL,          NULL, "m", "a point inside the fixed face"},
 
@@ -128,10 +128,10 @@ static const sf_study_key schema[] = {
     {"solver.penalty_translation", NUM,   POS,            0, 0,       "1.0",         NULL, "J/m^2", "lambda_d, penalty on the translation"},
     {"solver.quadrature",          INT,   RANGE, SF_QUADRATURE_MIN, SF_QUADRATURE_MAX, "24",          NULL, "-", "Gauss-Legendre points across a fold"},
     {"solver.tolerance",           NUM,   POS,            0, 0,       "1e-10",       NULL, "-", "Newton tolerance (scaled residual norm)"},
-    {"solver.formulation",         STR,   0,              0, 0,       "auto",        "auto|folds|poses", "-", "unknowns: fold coordinates (loops closed by 6 rows per interior vertex) or face poses (6 rows per fold, sparse; exact constraints only), docs/formulations.md; auto: poses above solver.auto_unknowns, else folds"},
-    {"solver.auto_unknowns",       INT,   SF_KEY_GE,      0, 0,       "300",         NULL, "-", "equilibrium paths: the size above which solver.formulation, analysis.flat_start and analysis.step_norm, all three \"auto\", choose \"poses\", \"sparse\", \"rms\" (unknowns in fold coordinates: angles, modes, loop and support multipliers; a sheet with loops, exact closure, no branch_depth); otherwise \"folds\", \"limit\", \"sum\"; docs/study-format.md \"Large sheets\""},
-    {"solver.pose_rows",           STR,   0,              0, 0,       "all",         "all|independent", "-", "face poses: keep all 6 N fold rows, or only a maximal independent set found once at a generic state (the dropped rows checked at every point; can follow a spurious branch from the flat state), docs/formulations.md"},
-    {"solver.flat_branch",         INT,   SF_KEY_GE,      1, 0,       "1",           NULL, "-", "exact start at the flat state: the stable branch of the tangent cone to follow, by energy (1: lowest), docs/flatstart.md"},
+    {"solver.formulation",         STR,   0,              0, 0,       "auto",        "auto|folds|poses", "-", "unknowns: fold coordinates (loops closed by 6 rows per interior vertex) or face poses (6 rows per fold, sparse; exact constraints only), docs/design/model.md; auto: poses above solver.auto_unknowns, else folds"},
+    {"solver.auto_unknowns",       INT,   SF_KEY_GE,      0, 0,       "300",         NULL, "-", "equilibrium paths: the size above which solver.formulation, analysis.flat_start and analysis.step_norm, all three \"auto\", choose \"poses\", \"sparse\", \"rms\" (unknowns in fold coordinates: angles, modes, loop and support multipliers; a sheet with loops, exact closure, no branch_depth); otherwise \"folds\", \"limit\", \"sum\"; docs/reference/study-keys.md \"Large sheets\""},
+    {"solver.pose_rows",           STR,   0,              0, 0,       "all",         "all|independent", "-", "face poses: keep all 6 N fold rows, or only a maximal independent set found once at a generic state (the dropped rows checked at every point; can follow a spurious branch from the flat state), docs/design/model.md"},
+    {"solver.flat_branch",         INT,   SF_KEY_GE,      1, 0,       "1",           NULL, "-", "exact start at the flat state: the stable branch of the tangent cone to follow, by energy (1: lowest), docs/design/start.md"},
     {"solver.linear_solver",       STR,   0,              0, 0,       "dense",       "dense|sparse|mumps|klu", "-", "Newton systems: dense LU (LAPACK) or sparse LU on the compressed Jacobian: sparse = mumps (MUMPS, METIS ordering) or klu (KLU); the pose formulation is always sparse (MUMPS unless klu)"},
 
     {"output",                     G,     AUTO,           0, 0,       NULL,          NULL, "-", "output settings"},
@@ -142,7 +142,7 @@ static const sf_study_key schema[] = {
     {"output.plot_folds",          NAMES, 0,              0, 0,       NULL,          NULL, "-", "folds drawn in angles.png: fold names, group names, numbers as text, \"all\""},
 
     {"analysis",                   G,     AUTO,           0, 0,       NULL,          NULL, "-", "what to compute"},
-    {"analysis.type",              STR,   0,              0, 0,       "equilibrium", "equilibrium|dynamics|boundary|none", "-", "equilibrium path, dynamic trajectory, stability boundary in two parameters (docs/bifurcation.md), or nothing"},
+    {"analysis.type",              STR,   0,              0, 0,       "equilibrium", "equilibrium|dynamics|boundary|none", "-", "equilibrium path, dynamic trajectory, stability boundary in two parameters (docs/guides/stability.md), or nothing"},
     {"analysis.parameter",         STR,   0,              0, 0,       "load",        "load|actuation|displacement", "-", "the parameter p that is varied: load factor, rest angle of an actuation group [rad], or prescribed displacement of a probe [m]"},
     {"analysis.load",              NUM,   NONNEG,         0, 0,       "0.0",         NULL, "-", "load factor held fixed when p is not the load"},
     {"analysis.probe",             STR,   0,              0, 0,       NULL,          NULL, "-", "displacement parameter: the probe whose displacement is prescribed (default: the first probe)"},
@@ -161,13 +161,13 @@ static const sf_study_key schema[] = {
     {"analysis.eigensolver",       STR,   0,              0, 0,       "auto",        "auto|dense|arpack|inertia", "-", "eigenvalues of the constrained Hessian: dense LAPACK (explicit tangent basis), ARPACK shift-invert on the KKT pencil, the inertia of the KKT matrix (MUMPS LDL^T: stability and Morse index, eigenvalues only when ARPACK converges within a bound), or auto (dense up to 200 coordinates, inertia above)"},
     {"analysis.arpack_maxiter",    INT,   SF_KEY_GE,      1, 0,       NULL,          NULL, "-", "ARPACK restarts per attempt (a non-converged attempt is retried with a larger subspace, then another shift); absent: 1000, and at most 10 for the inertia method's one bounded attempt (no default is written, so that absent stays absent)"},
     {"analysis.arpack_attempts",   INT,   SF_KEY_GE,      1, 0,       "4",           NULL, "-", "ARPACK attempts per point before its stability is marked unknown"},
-    {"analysis.flat_start",        STR,   0,              0, 0,       "auto",        "auto|limit|direct|sparse", "-", "exact closure starting at the flat state: from the limit of the branch (then the penalty homotopy; dense), directly (the engine's tangent at the singular point), or sparse (a finite step along the driving's projected response, face poses only; docs/flatstart.md); auto: sparse above solver.auto_unknowns, else limit"},
+    {"analysis.flat_start",        STR,   0,              0, 0,       "auto",        "auto|limit|direct|sparse|multipliers", "-", "exact closure starting at the flat state: from the limit of the branch (then the penalty homotopy; dense), directly (the engine's tangent at the singular point), sparse (a finite step along the driving's projected response, face poses only; docs/flatstart.md), or multipliers (experimental: the closed state of least energy at a given amount of folding by the method of multipliers, either formulation, with a certificate of locking; docs/design/start.md); auto: sparse above solver.auto_unknowns, else limit"},
     {"analysis.flat_angle",        NUM,   POS,            0, 0,       "0.05",        NULL, "rad", "sparse flat start: the first step's largest fold angle (halved up to 4 times when the corrector fails)"},
     {"analysis.flat_collapse",     NUM,   SF_KEY_GE | SF_KEY_LT, 0, 1, "0.25",      NULL, "-", "sparse flat start: an extra start of the limit problem (rigid vertex modes, mirror) is left when its largest fold amplitude falls below this fraction of its value at the first penalty stage (0: never)"},
     {"analysis.flat_stall",        INT,   SF_KEY_GE,      0, 0,       "10",          NULL, "-", "sparse flat start: the first start's first penalty stage (eta = 1e-8) is left, and the start made again from eta = 1e-9, after this many Newton iterations in which its fold amplitude had settled (moved by at most 10% a step) and its residual did not fall below half its lowest value since (0: never; docs/flatstart.md)"},
-    {"analysis.step_bound",        BOOL,  0,              0, 0,       "true",        NULL, "-", "shorten a step so that it ends between two eigenvalue crossings predicted within it (docs/bifurcation.md)"},
+    {"analysis.step_bound",        BOOL,  0,              0, 0,       "true",        NULL, "-", "shorten a step so that it ends between two eigenvalue crossings predicted within it (docs/guides/stability.md)"},
     {"analysis.branch_depth",      INT,   SF_KEY_GE,      0, 0,       "0",           NULL, "-", "levels of branch switching at branch points (0: none)"},
-    {"analysis.flat_starts",       INT,   SF_KEY_GE,      1, 0,       "400",         NULL, "-", "exact closure, branch_depth >= 1: Newton starts on the reduced second-order equations at the flat state (every branch of its tangent cone; docs/bifurcation.md)"},
+    {"analysis.flat_starts",       INT,   SF_KEY_GE,      1, 0,       "400",         NULL, "-", "exact closure, branch_depth >= 1: Newton starts on the reduced second-order equations at the flat state (every branch of its tangent cone; docs/guides/stability.md)"},
     {"analysis.second",            STR,   0,              0, 0,       NULL,          NULL, "-", "boundary: the second parameter, any numeric study key (defaults.width, materials.fold.E, analysis.load, loads[0].force[0], ...)"},
     {"analysis.second_min",        NUM,   0,              0, 0,       NULL,          NULL, "-", "boundary: smallest value of the second parameter"},
     {"analysis.second_max",        NUM,   0,              0, 0,       NULL,          NULL, "-", "boundary: largest value of the second parameter"},
@@ -191,7 +191,7 @@ static const sf_study_key schema[] = {
     {"analysis.tolerance",         NUM,   POS | DYN,      0, 0,       "1e-06",       NULL, "-", "dynamics: relative local error tolerance of the integrator (IDA)"},
     {"analysis.max_time_steps",    INT,   SF_KEY_GE | DYN, 1, 0,      "100000",      NULL, "-", "dynamics: most integrator steps"},
 
-    /* reference data compared with the path (compare.c, docs/study-format.md) */
+    /* reference data compared with the path (compare.c, docs/reference/study-keys.md) */
     {"references",                 LIST,  0,              0, 0,       NULL,          NULL, "-", "reference data files compared with the computed path"},
     {"references[]",               G,     0,              0, 0,       NULL,          NULL, "-", "one reference file"},
     {"references[].name",          STR,   IDENT,          0, 0,       NULL,          NULL, "-", "name in compare.tsv and messages (default: the file name)"},
@@ -211,7 +211,7 @@ static const sf_study_key schema[] = {
     {"references[].columns[].tolerance", NUM, POS,        0, 0,       NULL,          NULL, "-", "bound on that error (absent: report only); exceeded, the run exits with status 6"},
 
     /* smoothfold sweep (src/analysis/sweep.h); `run` ignores the group */
-    {"sweep",                      G,     0,              0, 0,       NULL,          NULL, "-", "parameter sweep: the variants `smoothfold sweep` runs (docs/sweep.md)"},
+    {"sweep",                      G,     0,              0, 0,       NULL,          NULL, "-", "parameter sweep: the variants `smoothfold sweep` runs (docs/guides/sweeps.md)"},
     {"sweep.vary",                 NAMES, REQ,            0, 0,       NULL,          NULL, "-", "varied keys as for --vary: [\"KEY=V1,V2,...\", \"KEY=START:STOP:N\"]"},
     {"sweep.mode",                 STR,   0,              0, 0,       "product",     "product|list", "-", "every combination of the values, or a list (variant i takes the i-th value of every key)"},
     {"sweep.map",                  STR,   0,              0, 0,       NULL,          NULL, "-", "sweep.tsv column drawn over the first two varied keys by `smoothfold plot` (default: lp_p, else bp_p, else end_probe1_uz)"},
@@ -335,7 +335,7 @@ void sf_study_free(sf_study *s)
     free(s->vertices);
     free(s->outline);
     free(s->folds);
-    free(s->facets);
+    free(s->facet_edges);
     free(s->materials);
     free(s->loads);
     free(s->groups);
@@ -439,6 +439,7 @@ int sf_study_load(const char *path, int nset, const char *const *sets,
     if (!rc) rc = st_fill(s, cfg, err);
     if (!rc) rc = st_materialize(s, cfg, err);
     if (!rc) rc = sf_study_check_assignments(s, err);   /* assignment.c */
+    if (!rc) rc = sf_study_add_facets(s, err);          /* facets.c: faces.bending */
     if (rc) {
         sf_study_free(s);
         return rc;

@@ -1,7 +1,7 @@
 /* study.h - read, check, override and write a study (.cfg, libconfig 1.5).
  *
  * A study file describes one scene: the crease pattern, materials, loads,
- * probes, solver settings and the analysis plan (docs/study-format.md).
+ * probes, solver settings and the analysis plan (docs/reference/study-keys.md).
  * sf_study_load() reads it, applies "--set key.path=value" overrides,
  * checks every key against ONE schema table (study.c) and fills the plain
  * sf_study of pattern.h.  The libconfig tree stays in s->cfg, completed with

@@ -178,6 +178,18 @@ static int fill_materials(sf_study *s, const config_setting_t *root, sf_error *e
         if (s->face_material < 0)
             return st_bad(s, err, fm, "unknown material '%s'%s", fm->value.sval, st_hint(h, sizeof h, MSUG(fm->value.sval)));
     }
+    /* bending faces: the facet hinges' stiffness needs the plate's E, nu */
+    const config_setting_t *fc = st_mem(root, "faces");
+    s->bending = fc && get_bool(fc, "bending", "faces.bending");
+    s->bending_coefficient = get_num(fc, NULL, "bending_coefficient", "faces.bending_coefficient", NULL);
+    s->facet_width = get_num(fc, NULL, "facet_width", "faces.facet_width", NULL);
+    if (s->bending) {
+        const config_setting_t *mse = st_mem(ms, fm->value.sval);
+        if (!st_mem(mse, "E"))
+            return st_bad(s, err, mse, "missing E (required because faces.bending is on and the faces use this material)");
+        if (!st_mem(mse, "nu"))
+            return st_bad(s, err, mse, "missing nu (required because faces.bending is on and the faces use this material)");
+    }
     return SF_OK;
 }
 
@@ -230,9 +242,6 @@ static int vname_find(const vname *v, int n, const char *name)
 static int fill_fold_list(sf_study *s, const config_setting_t *root, const vname *vn,
                            sf_error *err);
 
-static int fill_facet_list(sf_study *s, const config_setting_t *root, const vname *vn,
-                           sf_error *err);
-
 /* Folds: ends, name, width and the other defaults, material, group. */
 static int fill_folds(sf_study *s, const config_setting_t *root, sf_error *err)
 {
@@ -245,7 +254,6 @@ static int fill_folds(sf_study *s, const config_setting_t *root, sf_error *err)
     }
     qsort(vn, (size_t)nv, sizeof(vname), vname_cmp);
     int rc = fill_fold_list(s, root, vn, err);
-    if (!rc) rc = fill_facet_list(s, root, vn, err);
     free(vn);
     return rc;
 }
@@ -316,40 +324,6 @@ static int fill_fold_list(sf_study *s, const config_setting_t *root, const vname
                 return st_bad(s, err, gset, "unknown group '%s'%s%s", gset->value.sval, st_hint(h, sizeof h, sg),
                            s->ngroups ? "" : " (no actuation groups are defined)");
             }
-        }
-    }
-    return SF_OK;
-}
-
-/* Facet edges: two different vertices each, not a fold's ends (a line
- * across a face, kept for the bending of faces; the rigid model ignores
- * them). */
-static int fill_facet_list(sf_study *s, const config_setting_t *root, const vname *vn,
-                           sf_error *err)
-{
-    char h[200];
-    const config_setting_t *fs = st_mem(root, "facets");
-    int n = fs ? config_setting_length(fs) : 0;
-    if (n == 0) return SF_OK;
-    s->facets = calloc((size_t)n, sizeof *s->facets);
-    if (!s->facets) return sf_fail(err, SF_ENOMEM, "out of memory");
-    s->nfacets = n;
-    for (int i = 0; i < n; i++) {
-        const config_setting_t *e = config_setting_get_elem(fs, (unsigned)i);
-        const config_setting_t *end[2] = {st_mem(e, "from"), st_mem(e, "to")};
-        for (int k = 0; k < 2; k++) {
-            s->facets[i][k] = vname_find(vn, s->nvertices, end[k]->value.sval);
-            if (s->facets[i][k] < 0)
-                return st_bad(s, err, end[k], "unknown vertex '%s'%s", end[k]->value.sval,
-                              st_hint(h, sizeof h, VSUG(end[k]->value.sval)));
-        }
-        if (s->facets[i][0] == s->facets[i][1])
-            return st_bad(s, err, e, "from and to are the same vertex '%s'", end[0]->value.sval);
-        for (int f = 0; f < s->nfolds; f++) {
-            int a = s->folds[f].a, b = s->folds[f].b;
-            if ((a == s->facets[i][0] && b == s->facets[i][1]) || (a == s->facets[i][1] && b == s->facets[i][0]))
-                return st_bad(s, err, e, "the same line as fold %d (%s->%s): a line is a fold or a facet edge, not both",
-                              f + 1, s->vertices[a].name, s->vertices[b].name);
         }
     }
     return SF_OK;

@@ -1,5 +1,5 @@
 /* svg_read.c - the crease pattern of an SVG drawing in Origami Simulator's
- * convention (foldread.h, docs/svg-format.md).
+ * convention (foldread.h, docs/reference/svg-format.md).
  *
  * libxml2 parses the XML (no network, no entity substitution, no DTD
  * loading); this file walks the element tree: the straight segments of

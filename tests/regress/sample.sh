@@ -1,6 +1,6 @@
 #!/bin/sh
 # sample.sh - the equilibrium path of a study at fixed parameter values, as
-# a reference file (CSV with a provenance header, docs/study-format.md):
+# a reference file (CSV with a provenance header, docs/reference/study-keys.md):
 # probe displacements, fold angles and energy SOLVED at fixed p (Newton at
 # that p, through the reference-comparison feature), not interpolated, so
 # the values do not depend on where the continuation happened to step.

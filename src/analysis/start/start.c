@@ -1,0 +1,498 @@
+/* start.c - the first point off the flat sheet (start.h): the driving's
+ * control and amount of folding, the minimisation of start_alm.c, the
+ * sheet's own branches where the driving is blocked, and what the output
+ * says about them. */
+#include "start.h"
+#include "start_impl.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "equilibrium_poses.h"
+#include "study.h"
+
+/* Two branches are the same when their unit fold-angle directions (sign
+ * fixed) differ by less than this. */
+#define SAME_BRANCH 1e-3
+
+typedef struct start_ctx {
+    sf_equil *q;
+    fs_kkt k;
+    const sf_start_opts *o;
+    const double *y0;
+    double p0;
+    int dir;
+    double *row;             /* the driving's control: dF/dp at the flat state */
+    sf_start_info *info;
+    int nbr;                 /* distinct branches found, their directions */
+    double *dirs;            /* nbr x nfolds */
+    unsigned char *rot;      /* ncon: 1 for the rotation rows of the loops */
+} start_ctx;
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static void add_stats(start_ctx *c, const fs_alm_result *r)
+{
+    c->info->outer += r->outer;
+    c->info->newton += r->newton;
+}
+
+/* Largest |fold angle| of y. */
+static double fold_amplitude(const sf_model *m, const double *y)
+{
+    double a = 0.0;
+    for (int f = 0; f < m->nfolds; f++) a = fmax(a, fabs(y[m->qoff[f]]));
+    return a;
+}
+
+/* Record the branch of the closed state y if its fold-angle direction is
+ * new.  Returns its index. */
+static int note_branch(start_ctx *c, const double *y)
+{
+    const sf_model *m = c->q->m;
+    int nf = m->nfolds;
+    double *v = malloc(sizeof(double) * ((size_t)nf + 1));
+    if (!v) return -1;
+    double big = fold_amplitude(m, y), sg = 0.0;
+    for (int f = 0; f < nf; f++) {
+        v[f] = big > 0.0 ? y[m->qoff[f]] / big : 0.0;
+        if (sg == 0.0 && fabs(v[f]) >= 1e-2) sg = v[f] > 0.0 ? 1.0 : -1.0;
+    }
+    for (int f = 0; f < nf; f++) v[f] *= sg;
+    for (int b = 0; b < c->nbr; b++) {
+        double d = 0.0;
+        for (int f = 0; f < nf; f++) d = fmax(d, fabs(v[f] - c->dirs[(size_t)b * nf + f]));
+        if (d < SAME_BRANCH) { free(v); return b; }
+    }
+    double *nd = realloc(c->dirs, sizeof(double) * (size_t)(c->nbr + 1) * (size_t)nf);
+    if (!nd) { free(v); return -1; }
+    c->dirs = nd;
+    memcpy(c->dirs + (size_t)c->nbr * nf, v, sizeof(double) * (size_t)nf);
+    free(v);
+    return c->nbr++;
+}
+
+/* Folds of y that turn against their crease assignment (valley positive). */
+static int against_assignment(const sf_model *m, const double *y)
+{
+    const sf_study *s = m->study;
+    int n = 0;
+    double big = fold_amplitude(m, y);
+    for (int i = 0; i < m->nfolds && i < s->nfolds; i++) {
+        char key[64];
+        snprintf(key, sizeof key, "folds[%d].assignment", i);
+        if (!sf_study_has(s, key)) continue;
+        const char *a = NULL;
+        sf_error e;
+        sf_error_clear(&e);
+        if (sf_study_string(s, key, "", &a, &e) || !a) continue;
+        double sg = strcmp(a, "V") == 0 ? 1.0 : strcmp(a, "M") == 0 ? -1.0 : 0.0;
+        double th = y[m->qoff[i]];
+        if (sg != 0.0 && fabs(th) > 1e-3 * big && th * sg < 0.0) n++;
+    }
+    return n;
+}
+
+/* The rows' compliances in the method of multipliers (q->anchor_w, a
+ * factor on each row's weight in the equilibrium problem; freed by
+ * sf_start_flat).  The rotation rows of the loops are those of rigid
+ * origami (the rotation part of a smooth fold's map is the rigid one,
+ * MODEL.md 3), independent of band widths and shape modes; the
+ * translation rows are the bands' own.  The minimisation runs in two
+ * phases, a homotopy from rigid origami to smooth folds: first with the
+ * rotation rows ROT_STIFF_* times stiffer than the translation rows, so
+ * that the compliant sheet folds as rigid origami and only its bands'
+ * translations give; then, from there, with every row at its own scale,
+ * where the fold angles may leave rigid origami's ratios as much as the
+ * bands need.  With equal weights from the start the shape modes close
+ * the translations first and the sheet can end where its rotations cannot
+ * close (Miura sheets of 4 x 4 and 8 x 8 cells in face poses); with stiff
+ * rotations alone the translations cannot close where the bands need the
+ * fold angles off rigid origami's (a 2 x 2 Miura sheet).  The factors
+ * are measured, not derived: in fold coordinates 1e2 (1e4 and more left
+ * the 4 x 4 Miura sheet's actuation unclosed), in face poses, where every
+ * fold's rows are of first order at the flat state, 1e6 (1e2 left the
+ * 8 x 8 sheet's unclosed). */
+#define ROT_STIFF_FOLDS 1e2
+#define ROT_STIFF_POSES 1e6
+static int row_weights(start_ctx *c, sf_error *err)
+{
+    sf_equil *q = c->q;
+    const sf_model *m = q->m;
+    free(q->anchor_w);
+    q->anchor_w = malloc(sizeof(double) * ((size_t)q->ncon + 1));
+    c->rot = calloc((size_t)q->ncon + 1, 1);
+    if (!q->anchor_w || !c->rot) return sf_fail(err, SF_ENOMEM, "out of memory");
+    for (int r = 0; r < q->ncon; r++) q->anchor_w[r] = 1.0;
+    if (q->pz) {
+        for (int k = 0; k < 6 * m->nfolds; k++) {
+            int r = sf_peq_fold_row(q, k);   /* the constraint row of fold row k, or -1 */
+            if (r >= 0 && k % 6 < 3) c->rot[r] = 1;
+        }
+    } else {
+        for (int r = 0; r < q->nloop; r++) c->rot[r] = r % 6 < 3;
+    }
+    return SF_OK;
+}
+
+static void row_phase(start_ctx *c, int phase)
+{
+    sf_equil *q = c->q;
+    double stiff = q->pz ? ROT_STIFF_POSES : ROT_STIFF_FOLDS;
+    for (int r = 0; r < q->ncon; r++) q->anchor_w[r] = phase == 1 && c->rot[r] ? 1.0 / stiff : 1.0;
+}
+
+/* The first-order response to a unit amount of the control at the flat
+ * state: its
+ * largest fold angle per unit (*amp) and the sign of its multiplier
+ * (*musign).  For FS_FIXED the response to a unit change of p. */
+static int unit_response(start_ctx *c, const fs_control *ctl, double *amp, double *musign,
+                         sf_error *err)
+{
+    fs_kkt *k = &c->k;
+    sf_equil *q = c->q;
+    int n = k->n, nx = k->nx;
+    double *b = calloc((size_t)n + 1, sizeof(double));
+    double *a = calloc((size_t)n + 1, sizeof(double));
+    if (!b || !a) { free(b); free(a); return sf_fail(err, SF_ENOMEM, "out of memory"); }
+    if (!q->lam_anchor) q->lam_anchor = calloc((size_t)q->ncon + 1, sizeof(double));
+    memset(q->lam_anchor, 0, sizeof(double) * (size_t)q->ncon);
+    /* the rows with a gradient at the flat state enforced (the others have
+     * none there): the same response in either formulation */
+    q->eps_anchor = 1e-10;
+    int rc = fs_kkt_eval(k, c->y0, c->p0, err);
+    if (!rc) rc = fs_kkt_factor(k, 0.0, err);
+    if (!rc && ctl->kind == FS_FIXED) {
+        for (int i = 0; i < n; i++) b[i] = -k->S[i] * k->Fp[i];
+        rc = fs_kkt_solve(k, b, err);
+        *musign = 1.0;
+    } else if (!rc) {
+        /* [K0 l; l^T 0] [x; nu] = [0; 1] */
+        for (int i = 0; i < nx; i++) a[i] = ctl->row[i] * k->S[i];
+        rc = fs_kkt_solve(k, a, err);
+        double la = 0.0;
+        for (int i = 0; i < nx; i++) la += ctl->row[i] * k->S[i] * a[i];
+        if (!rc && la != 0.0) {
+            for (int i = 0; i < n; i++) b[i] = a[i] / la;   /* x = K0^-1 l / (l . K0^-1 l) */
+            *musign = la > 0.0 ? -1.0 : 1.0;                /* mu = -1 / la */
+        } else if (!rc) {
+            rc = SF_ENUMERIC;
+        }
+    }
+    q->eps_anchor = 0.0;
+    *amp = 0.0;
+    for (int f = 0; !rc && f < q->m->nfolds; f++) {
+        int i = q->m->qoff[f];
+        *amp = fmax(*amp, fabs(b[i] * k->S[i]));
+    }
+    free(a);
+    free(b);
+    if (rc && rc != SF_ENOMEM)
+        return sf_fail(err, SF_ENUMERIC, "flat start: the first-order response is singular");
+    return rc;
+}
+
+/* Minimise under control ctl from y (in/out) and *mu, counting. */
+static int minimise(start_ctx *c, const fs_control *ctl, double *y, double *mu, fs_alm_result *r,
+                    sf_error *err)
+{
+    int rc = fs_alm(&c->k, ctl, y, mu, c->o->branch, c->o->tol, r, err);
+    add_stats(c, r);
+    return rc;
+}
+
+/* The driving's own minimisation from y (the flat state or a branch):
+ * the amount of folding rel (row . (x - x0), or dp for a displacement
+ * parameter), reduced where |p1 - p0| would exceed dp_max.  y, *mu
+ * in/out. */
+static int drive(start_ctx *c, double *y, double *mu, double *relp, fs_alm_result *r,
+                 sf_error *err)
+{
+    sf_equil *q = c->q;
+    /* the work function Psi = Pi(p0 + 1) - Pi(p0) at the flat state
+     * (start_alm.c): the amount of folding is measured from it */
+    double a, b, rr, rt;
+    sf_equil_report(q, c->y0, c->p0 + 1.0, &a, &rr, &rt);
+    sf_equil_report(q, c->y0, c->p0, &b, &rr, &rt);
+    double r0 = a - b;
+    int fixed = q->disp_row >= 0;
+    double rel = *relp;
+    double eps0 = 0.0;   /* the first run starts compliant; a rerun as stiff as it ended */
+    for (int tries = 0; tries < 4; tries++) {
+        fs_control ctl = {fixed ? FS_FIXED : FS_PARAM, fixed ? NULL : c->row, r0 + rel,
+                          fixed ? c->p0 + rel : c->p0, eps0};
+        /* first as rigid origami (rotation rows stiff), then with the
+         * bands' own weights (row_weights) */
+        row_phase(c, 1);
+        int rc = minimise(c, &ctl, y, mu, r, err);
+        if (!rc && !r->closed) {
+            row_phase(c, 2);
+            /* phase 1's multipliers held its rotations against the bands:
+             * phase 2 starts compliant from its state */
+            memset(y + c->k.nx, 0, sizeof(double) * (size_t)c->k.m);
+            ctl.eps0 = 0.0;
+            rc = minimise(c, &ctl, y, mu, r, err);
+        }
+        *relp = rel;
+        if (rc || !r->closed) return rc;
+        double dp = fixed ? rel : *mu;
+        if (fabs(dp) <= c->o->dp_max * (1.0 + 1e-12) || dp * c->dir <= 0.0) return SF_OK;
+        /* too far along the path: less folding, from the state scaled back */
+        double f = 0.9 * c->o->dp_max / fabs(dp);
+        for (int i = 0; i < c->k.nx; i++) y[i] = c->y0[i] + f * (y[i] - c->y0[i]);
+        *mu *= f;
+        rel *= f;
+        eps0 = r->eps;
+    }
+    return SF_OK;
+}
+
+/* The certificate's margin: the smallest eigenvalue, relative to the
+ * bending metric, that counts as positive. */
+#define CERT_MARGIN 1e-8
+
+/* The census of the sheet's branches (start.h): best (q->n) and *mu get
+ * the closed state of lowest bending energy at the driving's amount of
+ * folding target, *followed its fold + 1; *lmin the prestress certificate
+ * where none closes; *cone_k the first-order motions (-2: too large). */
+static int census(start_ctx *c, double target, double musign, double *yb, double *best,
+                  double *mu, double *best_pi, int *followed, double *lmin, int *cone_k,
+                  sf_error *err)
+{
+    sf_equil *q = c->q;
+    const sf_model *m = q->m;
+    int n = q->n, nq = m->nq;
+    fs_cone C;
+    int rc = fs_cone_build(q, c->p0, &C, err);
+    if (rc == SF_EINPUT) { *cone_k = -2; return SF_OK; }
+    if (rc) return rc;
+    *cone_k = C.k;
+    c->info->cone_dim = C.k;
+    c->info->cone_forms = C.r;
+    double *x0 = malloc(sizeof(double) * ((size_t)C.k + 1));
+    double *x = malloc(sizeof(double) * ((size_t)C.k + 1));
+    double *nu = malloc(sizeof(double) * ((size_t)C.r + 1));
+    if (!x0 || !x || !nu) rc = sf_fail(err, SF_ENOMEM, "out of memory");
+    for (int f = 0; !rc && C.k > 0 && f < m->nfolds; f++) {
+        int i = m->qoff[f];
+        double nx0 = 0.0;
+        for (int b = 0; b < C.k; b++) {
+            x0[b] = C.N[(size_t)b * nq + i];
+            nx0 = fmax(nx0, fabs(x0[b]));
+        }
+        if (nx0 < 1e-8) continue;   /* the fold does not move at first order */
+        double res;
+        if (fs_cone_ray(&C, x0, x, &res)) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); break; }
+        if (!(res <= 1e-9)) continue;
+        c->info->singles++;
+        /* the sign along which the driving does work, the amplitude of the
+         * first point, then the driving's own minimisation from there */
+        double w = 0.0;
+        for (int b = 0; b < C.k; b++) w += C.c[b] * x[b];
+        double sg = w * c->dir > 0.0 ? -1.0 : 1.0, big = 0.0;
+        memset(yb, 0, sizeof(double) * (size_t)n);
+        for (int j = 0; j < nq; j++) {
+            double v = 0.0;
+            for (int b = 0; b < C.k; b++) v += C.N[(size_t)b * nq + j] * x[b];
+            yb[j] = sg * v;
+        }
+        for (int g = 0; g < m->nfolds; g++) big = fmax(big, fabs(yb[m->qoff[g]]));
+        for (int j = 0; j < nq; j++) yb[j] *= c->o->flat_angle / big;
+        if (q->pz) sf_equil_poses_lift(q, yb);
+        double mc = 0.0, rel = target;
+        fs_alm_result r;
+        rc = drive(c, yb, &mc, &rel, &r, err);
+        if (rc == SF_ENUMERIC) { sf_error_clear(err); rc = SF_OK; continue; }
+        if (rc || !r.closed || mc * c->dir <= 0.0) continue;
+        note_branch(c, yb);
+        double Pi, rr, rt;
+        sf_equil_report(q, yb, c->p0, &Pi, &rr, &rt);
+        if (Pi < *best_pi * (1.0 - 1e-9)) {
+            *best_pi = Pi;
+            *followed = f + 1;
+            *mu = mc;
+            memcpy(best, yb, sizeof(double) * (size_t)n);
+        }
+    }
+    (void)musign;
+    if (!rc && *followed < 0 && C.k > 0 && fs_cone_certify(&C, lmin, nu) < 0)
+        rc = sf_fail(err, SF_ENOMEM, "out of memory");
+    free(x0); free(x); free(nu);
+    fs_cone_free(&C);
+    return rc;
+}
+
+int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_start_opts *o,
+                  double *y1, double *p1, sf_start_info *info, sf_error *err)
+{
+    memset(info, 0, sizeof *info);
+    double t0 = now();
+    start_ctx c;
+    memset(&c, 0, sizeof c);
+    c.q = q;
+    c.o = o;
+    c.y0 = y0;
+    c.p0 = p0;
+    c.dir = dir >= 0 ? 1 : -1;
+    c.info = info;
+    const sf_model *m = q->m;
+    const char *path = m->study->path;
+    int n = q->n, nx = q->nq;
+    int rc = fs_kkt_init(&c.k, q, err);
+    double *yb = malloc(sizeof(double) * ((size_t)n + 1));
+    double *best = malloc(sizeof(double) * ((size_t)n + 1));
+    double *pin = calloc((size_t)nx + 1, sizeof(double));
+    c.row = calloc((size_t)nx + 1, sizeof(double));
+    if (!rc && (!yb || !best || !pin || !c.row)) rc = sf_fail(err, SF_ENOMEM, "out of memory");
+    if (!rc) rc = row_weights(&c, err);
+    /* the driving's control: dF/dp at the flat state */
+    if (getenv("FS_ROTW") && !q->anchor_w) {
+        q->anchor_w = malloc(sizeof(double) * ((size_t)q->ncon + 1));
+        for (int r = 0; r < q->ncon; r++) q->anchor_w[r] = (r < q->nloop && r % 6 < 3) ? atof(getenv("FS_ROTW")) : 1.0;
+    }
+    if (!rc) {
+        q->eps_anchor = 0.0;
+        rc = fs_kkt_eval(&c.k, y0, p0, err);
+    }
+    double rowmax = 0.0, r0 = 0.0;
+    if (!rc) {
+        for (int i = 0; i < nx; i++) {
+            c.row[i] = c.k.Fp[i];
+            rowmax = fmax(rowmax, fabs(c.row[i] * c.k.S[i]));
+            r0 += c.row[i] * y0[i];
+        }
+    }
+    if (!rc && q->disp_row < 0 && !(rowmax > 1e-12)) {
+        /* in-plane loads: no first-order work, the flat sheet carries them */
+        info->verdict = SF_FOLD_FLAT;
+        memcpy(y1, y0, sizeof(double) * (size_t)n);
+        *p1 = p0;
+        snprintf(info->note, sizeof info->note, "flat start: the driving does no work on the "
+                 "fold angles at first order (in-plane loads): the path starts along the flat "
+                 "sheet");
+        goto done;
+    }
+    double mu = 0.0, amp = 0.0, musign = 1.0;
+    fs_alm_result r;
+    memset(&r, 0, sizeof r);
+    if (!rc) {
+        fs_control ctl = {q->disp_row >= 0 ? FS_FIXED : FS_PARAM, c.row, 1.0, p0, 0.0};
+        rc = unit_response(&c, &ctl, &amp, &musign, err);
+    }
+    if (!rc && !(amp > 0.0))
+        rc = sf_fail(err, SF_EINPUT, "%s: the driving does not fold the sheet at first order "
+                     "(its response keeps every fold flat)", path);
+    double target = 0.0;
+    if (!rc) {
+        target = c.dir * musign * o->flat_angle / amp;
+        memcpy(yb, y0, sizeof(double) * (size_t)n);
+        rc = drive(&c, yb, &mu, &target, &r, err);
+    }
+    int followed = -1;   /* 0: the driving's, f + 1: fold f's */
+    if (!rc && r.closed) {
+        followed = 0;
+        info->symmetric = r.saddle;
+        memcpy(best, yb, sizeof(double) * (size_t)n);
+        note_branch(&c, best);
+    } else if (!rc) {
+        info->blocked = 1;
+    }
+    /* the sheet's own branches: the rays of the tangent cone nearest to
+     * each fold's first-order motion, each taken by the driving's own
+     * minimisation (start_cone.c) */
+    double best_pi = INFINITY, lmin = -INFINITY;
+    int certified = 0, cone_k = -1;
+    if (!rc && (o->census || info->blocked) && q->disp_row < 0)
+        rc = census(&c, target, musign, yb, best, &mu, &best_pi, &followed, &lmin, &cone_k, err);
+    certified = lmin > CERT_MARGIN;
+    info->branches = c.nbr;
+    info->factorisations = c.k.nfact;
+    if (rc) goto done;
+    if (followed < 0 && (certified || cone_k == 0)) {
+        info->verdict = SF_FOLD_LOCKED;
+        if (cone_k == 0)
+            rc = sf_fail(err, SF_ELOCKED, "%s: flat start: locked: the loop rows leave no motion "
+                         "of the flat sheet even at first order (rigid faces and exact closure); "
+                         "to fold it, let its loops give (solver.constraints = \"penalty\") or its "
+                         "faces bend", path);
+        else
+            rc = sf_fail(err, SF_ELOCKED, "%s: flat start: locked: a prestress of the loops makes "
+                         "the second-order closure conditions positive definite on the sheet's %d "
+                         "first-order motions (smallest eigenvalue %.3g in the bending metric), so "
+                         "no motion leaves the flat sheet with rigid faces and exact closure; to "
+                         "fold it, let its loops give (solver.constraints = \"penalty\") or its "
+                         "faces bend", path, info->cone_dim, lmin);
+        goto done;
+    }
+    if (followed < 0) {
+        info->verdict = SF_FOLD_UNDECIDED;
+        rc = sf_fail(err, SF_ENUMERIC, "%s: flat start: no closed state near the flat sheet along "
+                     "the driving's response (loop residual %.2g after %d Newton steps)%s; the "
+                     "sheet may not fold with rigid faces and exact loop closure: try "
+                     "solver.constraints = \"penalty\" (compliant loops)", path, r.gres,
+                     info->newton, cone_k > 0 ? ", nor along the rays of the tangent cone nearest "
+                         "to each fold's motion, and no prestress proves it locked" : cone_k == -2
+                         ? " (the sheet is too large for the tangent cone's dense analysis)" : "");
+        goto done;
+    }
+    double dp = mu;
+    if (q->disp_row >= 0) dp = target;
+    if (dp * c.dir <= 0.0) {
+        info->verdict = SF_FOLD_UNDECIDED;
+        rc = sf_fail(err, SF_ENUMERIC, "%s: flat start: the closed state the driving reaches needs "
+                     "the parameter to move against the path's direction (dp = %.3g)", path, dp);
+        goto done;
+    }
+    info->verdict = SF_FOLD_FOLDABLE;
+    info->from_fold = followed;
+    memcpy(y1, best, sizeof(double) * (size_t)n);
+    *p1 = p0 + dp;
+    info->p1 = *p1;
+    info->amplitude = fold_amplitude(m, y1);
+    info->residual = r.gres;
+    info->against = against_assignment(m, y1);
+    {
+        char buf[600];
+        int o2 = 0;
+        if (followed == 0)
+            o2 += snprintf(buf + o2, sizeof buf - (size_t)o2, "the driving's own branch");
+        else
+            o2 += snprintf(buf + o2, sizeof buf - (size_t)o2, "the driving's response is blocked "
+                           "(no closed state near it); of the branches found by folding each "
+                           "fold alone, the one on which the driving does the most work (reached "
+                           "from fold %d)", followed);
+        if (info->symmetric)
+            o2 += snprintf(buf + o2, sizeof buf - (size_t)o2, "; symmetric driving: the state it "
+                           "selects is a saddle, left along its direction of negative curvature "
+                           "(branch %d of 2 mirror images, solver.flat_branch)", o->branch);
+        if (info->against)
+            snprintf(buf + o2, sizeof buf - (size_t)o2, "; %d folds turn against their "
+                     "assignment", info->against);
+        snprintf(info->note, sizeof info->note, "flat start: foldable: %d branch%s found%s; "
+                 "following %s: first point at p = %.6g, largest fold angle %.4g rad (%d Newton "
+                 "steps, %d outer iterations)", c.nbr, c.nbr == 1 ? "" : "es",
+                 info->singles ? " (with each fold folded alone)" : "", buf, *p1,
+                 info->amplitude, info->newton, info->outer);
+    }
+done:
+    info->seconds = now() - t0;
+    q->eps_anchor = 0.0;
+    free(q->anchor_w);
+    q->anchor_w = NULL;
+    fs_kkt_free(&c.k);
+    free(c.row);
+    free(c.dirs);
+    free(c.rot);
+    free(yb);
+    free(best);
+    free(pin);
+    return rc;
+}

@@ -1,0 +1,68 @@
+/* start.h - leaving the flat sheet with exact loop closure (docs/start.md).
+ *
+ * At the flat state the loop rows that turn about the sheet's normal or
+ * translate in its plane have no gradient: the flat state of a foldable
+ * sheet is a singular point where several branches meet, and Newton's
+ * method cannot start there.  The first point of a path is instead the
+ * closed state of a small, given amount of folding with the least energy:
+ * the equilibrium at the parameter p1 at which the driving's first-order
+ * work reaches the amount that folds the sheet by analysis.flat_angle.  It
+ * is found by the method of multipliers from the flat sheet (start_alm.c):
+ * the loops start compliant and are made rigid, the inner minimisations
+ * keep the inertia of a minimum, so the state reached is one the driving
+ * pushes the sheet into.  Where that state is a saddle (a symmetric
+ * driving), the two mirror branches leave it along its direction of
+ * negative curvature: the first is followed, solver.flat_branch = 2
+ * follows the other.
+ *
+ * Where no closed state lies near the driving's response (its response is
+ * blocked: the loops resist it at second order), the sheet's own branches
+ * are looked for by folding each fold alone (the closed state with that
+ * fold at the angle and the least energy), and the one on which the
+ * driving does the most work per unit of bending energy is followed.
+ * Where none closes either, the sheet is reported locked with a
+ * certificate (start_lock.c) or undecided. */
+#ifndef SF_START_H
+#define SF_START_H
+
+#include "equilibrium.h"
+
+typedef struct sf_start_opts {
+    double flat_angle;   /* largest fold angle of the first point [rad] */
+    double dp_max;       /* |p1 - p0| at most (the first step of the path) */
+    double tol;          /* Newton tolerance (scaled residual) */
+    int branch;          /* 1; 2: the mirror image where the driving is symmetric */
+    int census;          /* also fold each fold alone and count the branches */
+} sf_start_opts;
+
+enum { SF_FOLD_UNKNOWN = 0, SF_FOLD_FOLDABLE = 1, SF_FOLD_LOCKED = 2, SF_FOLD_UNDECIDED = 3,
+       SF_FOLD_FLAT = 4 /* the driving does no first-order work: the flat sheet is the branch */ };
+
+typedef struct sf_start_info {
+    int verdict;         /* SF_FOLD_* */
+    int branches;        /* distinct branches found (by their fold-angle directions) */
+    int singles;         /* rays of the tangent cone found from single folds' motions */
+    int cone_dim, cone_forms;  /* first-order motions, second-order conditions (census) */
+    int blocked;         /* the driving's response has no closed state near it */
+    int symmetric;       /* the state the driving selects is a saddle: mirror branches */
+    int from_fold;       /* the branch followed: 0 the driving's own, f + 1 fold f's */
+    int against;         /* folds of the first point that turn against their assignment */
+    int outer, newton;   /* outer iterations and Newton steps, all minimisations */
+    long factorisations;
+    double p1;           /* the first point's parameter */
+    double amplitude;    /* its largest |fold angle| [rad] */
+    double residual;     /* its constraint residual (scaled rows) */
+    double seconds;
+    char note[1200];     /* one paragraph for the output: what was found and followed */
+} sf_start_info;
+
+/* The first point off the flat state y0 (q->n values, solving the
+ * problem at p0) in direction dir (+1, -1): y1 (q->n values) and *p1.
+ * SF_OK with info->verdict SF_FOLD_FOLDABLE (y1, p1 set) or SF_FOLD_FLAT
+ * (y1 = y0, p1 = p0: start the path at the flat state itself); otherwise
+ * an error whose message says what was found and what to try
+ * (SF_ELOCKED with the certificate when the sheet is locked). */
+int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_start_opts *o,
+                  double *y1, double *p1, sf_start_info *info, sf_error *err);
+
+#endif

@@ -1,0 +1,6 @@
+# tests/validity.mk: the physical-validity checks (src/analysis/validity.h)
+check_PROGRAMS += tests/test_validity
+TESTS += tests/test_validity
+tests_test_validity_SOURCES = tests/test_validity.c
+tests_test_validity_CFLAGS = $(SF_TEST_CFLAGS)
+tests_test_validity_LDADD = $(SF_TEST_LIBS)
