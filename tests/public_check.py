@@ -46,8 +46,8 @@ def read_cfg(path):
     section = text.split('\nfolds = (')[1].split('\n);')[0]
     for m in re.finditer(r'\{ (?:name = "[^"]*"; )?from = "(\w+)"; to = "(\w+)";( assignment = "([MV])";)?', section):
         folds.append((verts[m.group(1)], verts[m.group(2)], m.group(4) or 'U'))
-    fac = text.split('facets = (')[1].split(');')[0] if 'facets = (' in text else ''
-    facets = [(verts[a], verts[b]) for a, b in re.findall(r'from = "(\w+)"; to = "(\w+)";', fac)]
+    m = re.search(r'^\s+facets = \[(.*?)\];', text, re.M | re.S)   # faces.facets
+    facets = [(verts[a], verts[b]) for a, b in re.findall(r'"(\w+) (\w+)"', m.group(1))] if m else []
     return verts, folds, facets
 
 
