@@ -18,7 +18,7 @@ py=$(command -v python3)
 n=$(grep -vc '^#' "$man")
 nsvg=$(grep -v '^#' "$man" | awk -F'\t' '$1 ~ /\.svg$/ && $3 == "ok"' | wc -l)
 nfold=$(grep -v '^#' "$man" | awk -F'\t' '$1 ~ /\.fold(\.gz)?$/ && $3 == "ok" && $2 == "-"' | wc -l)
-echo "1..$((n + nsvg + 2 * nfold + 2))"
+echo "1..$((n + nsvg + 2 * nfold + 3))"
 grep -v '^#' "$man" > "$tmp/manifest"   # read below without a pipe: ok/nok count on
 while IFS='	' read -r file opts want; do
     f="$src/tests/public/$file"
@@ -78,3 +78,12 @@ else nok "--size and --fold-percent"; sed 's/^/#   /' "$tmp/out"; fi
 if grep -q "crane-cp.fold: FOLD crease pattern, 25.4 x 25.4 mm (coordinates in in (--unit))" "$tmp/out"; then
     ok "--unit=in: a unit square is 25.4 mm"
 else nok "--unit=in"; sed 's/^/#   /' "$tmp/out"; fi
+# bending faces on an imported triangulation: a facet edge that ends where
+# import joined two folds is refused naming the fold and what to try; the
+# automatic triangulation then gives every face its facets
+"$bin" import "$src/tests/public/rabbit-ear/kraft-bird-base.fold" -o "$tmp/k.cfg" >/dev/null 2>&1
+"$bin" check "$tmp/k.cfg" --set faces.bending=true -q > "$tmp/out" 2>&1; rc=$?
+if [ $rc -eq 1 ] && grep -q "faces.facets\[0\]: v132-v77 ends at v132, which lies on fold [0-9]* (v[0-9]*->v[0-9]*) between its ends, not at a corner of a face; --set 'faces.facets=\[\]' triangulates the faces automatically" "$tmp/out" &&
+   "$bin" check "$tmp/k.cfg" --set faces.bending=true --set 'faces.facets=[]' -q >/dev/null 2>&1; then
+    ok "kraft-bird-base.fold, faces.bending: a facet edge ending on a joined fold refused with the way out, which checks"
+else nok "kraft-bird-base.fold with faces.bending (status $rc)"; sed 's/^/#   /' "$tmp/out" | head -3; fi

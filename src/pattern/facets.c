@@ -366,6 +366,19 @@ static int append_facets(sf_study *s, const facet_list *L, const double *wf, con
     return SF_OK;
 }
 
+/* The study's fold whose centre line passes through vertex v between its
+ * ends (within tol), or -1. */
+static int fold_through(const sf_study *s, int v, double tol)
+{
+    for (int f = 0; f < s->nfolds; f++) {
+        const double *a = X(s, s->folds[f].a), *b = X(s, s->folds[f].b), *p = X(s, v);
+        double l = dist(a, b), t = ((p[0] - a[0]) * (b[0] - a[0]) + (p[1] - a[1]) * (b[1] - a[1])) / (l * l);
+        if (v != s->folds[f].a && v != s->folds[f].b && t > 0 && t < 1 && fabs(cross3(a, b, p)) <= tol * l)
+            return f;
+    }
+    return -1;
+}
+
 int sf_study_add_facets(sf_study *s, sf_error *err)
 {
     if (s->nfacets) return SF_OK;
@@ -402,10 +415,21 @@ int sf_study_add_facets(sf_study *s, sf_error *err)
         rc = split_face(s, poly, n, f, given, ngiven, used, &L, t.tol, err, fname);
     }
     for (int g = 0; !rc && g < ngiven; g++)
-        if (!used[g])
-            rc = sf_study_fail(s, err, SF_EINPUT, "faces.facets", "faces.facets[%d]: %s-%s is not a diagonal of "
-                               "a face (a facet edge must join two corners of one face, inside it)", g,
-                               s->vertices[given[g][0]].name, s->vertices[given[g][1]].name);
+        if (!used[g]) {
+            int fe = -1, ve = -1;
+            for (int k = 0; k < 2 && fe < 0; k++)
+                if ((fe = fold_through(s, given[g][k], t.tol)) >= 0) ve = given[g][k];
+            if (fe >= 0)   /* import joins collinear folds through the ends of facet edges */
+                rc = sf_study_fail(s, err, SF_EINPUT, "faces.facets", "faces.facets[%d]: %s-%s ends at %s, which lies "
+                                   "on fold %d (%s->%s) between its ends, not at a corner of a face; --set "
+                                   "'faces.facets=[]' triangulates the faces automatically", g,
+                                   s->vertices[given[g][0]].name, s->vertices[given[g][1]].name, s->vertices[ve].name,
+                                   fe + 1, s->vertices[s->folds[fe].a].name, s->vertices[s->folds[fe].b].name);
+            else
+                rc = sf_study_fail(s, err, SF_EINPUT, "faces.facets", "faces.facets[%d]: %s-%s is not a diagonal of "
+                                   "a face (a facet edge must join two corners of one face, inside it)", g,
+                                   s->vertices[given[g][0]].name, s->vertices[given[g][1]].name);
+        }
     if (!rc && L.n) {
         wf = malloc((size_t)L.n * sizeof *wf);
         sb = malloc((size_t)L.n * sizeof *sb);
