@@ -1,5 +1,5 @@
 #!/bin/sh
-# test_pattern.sh - `smoothfold pattern`: every generator's study passes
+# test_pattern_cli.sh - `smoothfold pattern`: every generator's study passes
 # `smoothfold check` (twist and hypar with their faces bending); the studies
 # in studies/ are what their documented command writes today
 # (docs/guides/patterns.md); options and their errors.

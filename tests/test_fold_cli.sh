@@ -1,5 +1,5 @@
 #!/bin/sh
-# test_fold.sh - `smoothfold import` and `export` through the program:
+# test_fold_cli.sh - `smoothfold import` and `export` through the program:
 # the FOLD files of tests/fold/ import, check and run (two commands);
 # every broken file in tests/bad/fold_*.fold and svg_*.svg fails with one
 # line naming the file and the location (*.expect: the text after "FILE:" or
