@@ -15,5 +15,5 @@ TESTS += tests/test_flatswitch
 tests_test_flatswitch_SOURCES = tests/test_flatswitch.c
 tests_test_flatswitch_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_flatswitch_LDADD = $(SF_TEST_LIBS)
-TESTS += tests/test_flatswitch.sh
-EXTRA_DIST += tests/test_flatswitch.sh
+TESTS += tests/test_flatswitch_cli.sh
+EXTRA_DIST += tests/test_flatswitch_cli.sh

@@ -25,7 +25,7 @@
 #include "generators.h"
 #include "study.h"
 #include "topology.h"
-#include "check_test.h"
+#include "sf_test.h"
 
 #ifndef SF_SRCDIR
 #define SF_SRCDIR "."
@@ -106,7 +106,9 @@ static void round_trip(const char *path)
     CHECK_OK(sf_topology_build(&s1, &t1, &e), e);
     CHECK_OK(sf_cp_from_study(&s1, &t1, &cp, &e), e);
     CHECK_OK(sf_fold_write_pattern(&cp, fold, &e), e);
-    CHECK_OK(sf_fold_read(fold, -1, NULL, &cp2, NULL, 0, &e), e);
+    sf_import_opts io;
+    sf_import_opts_default(&io);
+    CHECK_OK(sf_import_read(fold, &io, &cp2, NULL, &e), e);
     sf_cp_study_opts o;
     sf_cp_study_opts_default(&o);
     CHECK_OK(sf_cp_write_study(&cp2, &o, cfg, 0, NULL, &e), e);
@@ -189,7 +191,9 @@ static void test_generators_reimported(void **state)
         o.m = 3; o.n = 2;
         CHECK_OK(sf_generate(names[k], &o, &a, &e), e);
         CHECK_OK(sf_fold_write_pattern(&a, fold, &e), e);
-        CHECK_OK(sf_fold_read(fold, -1, NULL, &b, NULL, 0, &e), e);
+        sf_import_opts io;
+        sf_import_opts_default(&io);
+        CHECK_OK(sf_import_read(fold, &io, &b, NULL, &e), e);
         assert_int_equal(a.nv, b.nv);
         assert_int_equal(a.ne, b.ne);
         for (int v = 0; v < a.nv; v++) {
@@ -211,14 +215,16 @@ static void test_generators_reimported(void **state)
 static void test_frames_and_units(void **state)
 {
     (void)state;
-    char p[2048], note[160];
+    char p[2048];
     sf_cpattern cp;
     sf_error e;
     sf_error_clear(&e);
+    sf_import_opts io;
+    sf_import_opts_default(&io);
     src_path(p, sizeof p, "tests/fold/frames-3d.fold");
     /* the first creasePattern frame is file_frames[0] (frame 1); it
      * inherits the edges from the top level and has its own angles */
-    CHECK_OK(sf_fold_read(p, -1, NULL, &cp, note, sizeof note, &e), e);
+    CHECK_OK(sf_import_read(p, &io, &cp, NULL, &e), e);
     assert_int_equal(cp.nv, 6);
     assert_int_equal(cp.ne, 7);
     assert_int_equal(cp.e[6].assign, 'M');
@@ -226,18 +232,34 @@ static void test_frames_and_units(void **state)
     assert_true(cp.unit == 0.0254);
     assert_string_equal(cp.title, "two frames");
     sf_cp_free(&cp);
-    /* frame 0 is folded (z != 0) */
-    assert_int_equal(sf_fold_read(p, 0, NULL, &cp, NULL, 0, &e), SF_EINPUT);
-    assert_non_null(strstr(e.msg, "vertices_coords[2]: z = 0.5: a crease pattern lies flat"));
-    sf_error_clear(&e);
-    assert_int_equal(sf_fold_read(p, 2, NULL, &cp, NULL, 0, &e), SF_EINPUT);
+    /* frame 0 is the same sheet in a tilted plane: turned into x-y, with
+     * every distance kept (the diagonal from (0,0,0) to (2,1,0.5)) */
+    io.frame = 0;
+    sf_import_info info;
+    CHECK_OK(sf_import_read(p, &io, &cp, &info, &e), e);
+    double d = hypot(cp.v[2].x[0] - cp.v[0].x[0], cp.v[2].x[1] - cp.v[0].x[1]);
+    CHECK_CLOSE(d, sqrt(4 + 1 + 0.25), 1e-14, "diagonal of the tilted frame after the rotation");
+    CHECK_CLOSE(hypot(cp.v[1].x[0] - cp.v[0].x[0], cp.v[1].x[1] - cp.v[0].x[1]), 2.0, 1e-14, "edge v0-v1");
+    assert_true(info.nnotes >= 1 && strstr(info.notes[0], "turned into the x-y plane"));
+    sf_cp_free(&cp);
+    io.frame = 2;
+    assert_int_equal(sf_import_read(p, &io, &cp, NULL, &e), SF_EINPUT);
     assert_non_null(strstr(e.msg, "--frame 2: the file has 2 frames"));
     sf_error_clear(&e);
-    /* --unit wins over frame_unit */
-    CHECK_OK(sf_fold_read(p, 1, "mm", &cp, NULL, 0, &e), e);
+    /* --unit wins over frame_unit; --size over both */
+    io.frame = 1;
+    io.unit = "mm";
+    CHECK_OK(sf_import_read(p, &io, &cp, &info, &e), e);
     assert_true(cp.unit == 1e-3);
     sf_cp_free(&cp);
-    assert_int_equal(sf_fold_read(p, 1, "furlong", &cp, NULL, 0, &e), SF_EINPUT);
+    io.size = 0.5;
+    CHECK_OK(sf_import_read(p, &io, &cp, &info, &e), e);
+    CHECK_CLOSE(info.width, 0.5, 1e-15, "--size 0.5: the larger side");
+    CHECK_CLOSE(info.height, 0.25, 1e-15, "--size 0.5: the other side in proportion");
+    sf_cp_free(&cp);
+    io.size = 0;
+    io.unit = "furlong";
+    assert_int_equal(sf_import_read(p, &io, &cp, NULL, &e), SF_EINPUT);
     assert_non_null(strstr(e.msg, "--unit furlong: unknown unit"));
 }
 

@@ -1,7 +1,9 @@
-/* cmd_fold.c - smoothfold import (a FOLD crease pattern as a study) and
- * smoothfold export (a study's crease pattern as FOLD). */
+/* cmd_fold.c - smoothfold import (a FOLD or SVG crease pattern as a study,
+ * or as FOLD) and smoothfold export (a study's crease pattern as FOLD).
+ * import prints what it read on stdout, its size first. */
 #include "commands.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -34,29 +36,55 @@ static void study_name(const sf_cpattern *cp, const char *path, char *out, size_
     if (!k) snprintf(out, n, "imported");
 }
 
-int sf_cmd_import(int argc, char **argv, const char *cmdline, const char *output, const char *unit,
-                  int frame, struct sf_cp_study_opts *so, int nset,
+/* "200 x 150 mm" */
+static void size_text(const sf_import_info *info, char *buf, size_t n)
+{
+    double w = 1e3 * info->width, h = 1e3 * info->height;
+    if (fmax(w, h) >= 10000) snprintf(buf, n, "%.4g x %.4g m", w / 1e3, h / 1e3);
+    else snprintf(buf, n, "%.4g x %.4g mm", w, h);
+}
+
+int sf_cmd_import(int argc, char **argv, const char *cmdline, const char *output,
+                  const sf_import_opts *io, struct sf_cp_study_opts *so, int nset,
                   const char **sets, sf_error *err)
 {
     const char *in = argv[argc - 1];
     sf_cpattern cp;
-    char note[160];
-    if (sf_fold_read(in, frame, unit, &cp, note, sizeof note, err)) return err->code;
-    char name[64], hdr[900];
+    sf_import_info info;
+    if (sf_import_read(in, io, &cp, &info, err)) return err->code;
+    char name[64], hdr[2600], size[64];
     study_name(&cp, in, name, sizeof name);
+    size_text(&info, size, sizeof size);
     int nm = 0, nv = 0, nu = 0, nf = 0;
     for (int e = 0; e < cp.ne; e++) {
         char a = cp.e[e].assign;
         nm += a == 'M'; nv += a == 'V'; nu += a == 'U'; nf += a == 'F';
     }
-    snprintf(hdr, sizeof hdr,
-             "%s - imported from the FOLD file %s%s.\n\nImported by: %s\n"
-             "Unit: %s.  Edges: %d mountain, %d valley, %d unassigned, %d flat%s.\n"
-             "(docs/guides/importing-patterns.md)", name, in, frame >= 0 ? " (the frame asked for)" : "", cmdline, note,
-             nm, nv, nu, nf, nf && !so->include_flat ? " (flat edges dropped: --include-flat keeps them)" : "");
-    so->name = name;
-    so->header = hdr;
-    int rc = sf_cp_write_study(&cp, so, output, nset, sets, err);
+    int rc;
+    size_t l = (size_t)snprintf(hdr, sizeof hdr,
+             "%s - imported from the %s file %s%s.\n\nImported by: %s\n"
+             "Size: %s (%s).\nEdges: %d mountain, %d valley, %d unassigned, %d facet (F)%s.",
+             name, info.format, in, io->frame >= 0 ? " (the frame asked for)" : "", cmdline, size, info.scale,
+             nm, nv, nu, nf, nf && so->include_flat ? " (--include-flat: the facet edges are folds)" : "");
+    for (int k = 0; k < info.nnotes && l < sizeof hdr; k++)
+        l += (size_t)snprintf(hdr + l, sizeof hdr - l, "\n%s.", info.notes[k]);
+    if (l < sizeof hdr) snprintf(hdr + l, sizeof hdr - l, "\n(docs/guides/importing-patterns.md, docs/reference/svg-format.md)");
+    size_t ol = strlen(output);
+    if (ol >= 5 && strcmp(output + ol - 5, ".fold") == 0) {
+        if (nset) { sf_cp_free(&cp); return sf_fail(err, SF_EINPUT, "import: --set applies to a study (-o S.cfg), not to FOLD output"); }
+        if (!cp.title[0]) snprintf(cp.title, sizeof cp.title, "%s", name);
+        rc = sf_fold_write_pattern(&cp, output, err);
+    } else {
+        so->name = name;
+        so->header = hdr;
+        rc = sf_cp_write_study(&cp, so, output, nset, sets, err);
+    }
+    if (!rc) {
+        /* what was read, the size first */
+        printf("%s: %s crease pattern, %s (%s)\n", in, info.format, size, info.scale);
+        for (int k = 0; k < info.nnotes; k++) printf("%s: %s\n", in, info.notes[k]);
+        printf("%s: %d mountain, %d valley, %d unassigned, %d facet edges -> %s\n", in, nm, nv, nu, nf, output);
+    }
     sf_cp_free(&cp);
     return rc;
 }

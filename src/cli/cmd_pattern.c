@@ -1,6 +1,6 @@
 /* cmd_pattern.c - the crease-pattern commands:
  *   smoothfold pattern NAME [options] -o FILE.cfg|FILE.fold
- *   smoothfold import PATTERN.fold -o STUDY.cfg [--set ...] [--unit U] [--frame N]
+ *   smoothfold import PATTERN.fold|.svg -o STUDY.cfg|P.fold [--set ...] [options]
  *   smoothfold export STUDY.cfg -o PATTERN.fold [--set ...]
  * Each parses its own options (they differ from the study commands'). */
 #define _GNU_SOURCE
@@ -14,44 +14,60 @@
 
 #include "cpattern.h"
 #include "fold.h"
+#include "foldread.h"
 #include "generators.h"
 #include "study.h"
 
 static const char *pattern_usage =
     "Usage: smoothfold pattern NAME [OPTION]... -o FILE.cfg|FILE.fold\n"
-    "       smoothfold import PATTERN.fold -o STUDY.cfg [--set KEY=VALUE]... [--unit U] [--frame N]\n"
+    "       smoothfold import PATTERN.fold|PATTERN.svg -o STUDY.cfg|P.fold [OPTION]...\n"
     "       smoothfold export STUDY.cfg -o PATTERN.fold [--set KEY=VALUE]...\n"
     "Crease patterns: the classic tessellations (NAME: miura, yoshimura,\n"
-    "waterbomb, twist, hypar) and FOLD files, written as a ready-to-run study (.cfg) or as\n"
-    "FOLD (.fold).  docs/guides/patterns.md, docs/guides/importing-patterns.md.\n"
+    "waterbomb, twist, hypar), FOLD files and SVG drawings in Origami Simulator's\n"
+    "colours, written as a ready-to-run study (.cfg) or as FOLD (.fold).\n"
+    "docs/guides/patterns.md, docs/guides/importing-patterns.md,\n"
+    "docs/reference/svg-format.md.\n"
     "\n"
     "  -o, --output=FILE       the file to write (.cfg: a study; .fold: FOLD)\n"
     "      --cells=MxN         cells along x and y (default 2x2; N alone: NxN;\n"
     "                          hypar: M rings, default 4)\n"
-    "      --size=AxB          panel or cell sizes in m (miura: straight side a,\n"
-    "                          zigzag side b; twist: sheet a, central square b;\n"
-    "                          hypar: sheet a; A alone: AxA; default per pattern)\n"
+    "      --size=AxB          pattern: panel or cell sizes in m (miura: straight\n"
+    "                          side a, zigzag side b; twist: sheet a, central\n"
+    "                          square b; hypar: sheet a; A alone: AxA; default\n"
+    "                          per pattern)\n"
+    "      --size=L            import: the sheet's larger side, in m or with a unit\n"
+    "                          (200mm); default: the file's unit, else 200 mm\n"
     "      --angle=DEG         miura: sector angle in degrees (default 60);\n"
     "                          twist: twist angle (default 22.5)\n"
     "      --width=W           band width in m (default 0.1 x the shortest fold)\n"
-    "      --fold-angle=DEG    actuation rest angle where the pattern gives none\n"
-    "                          (default 57.3 degrees = 1 rad)\n"
+    "      --fold-angle=DEG    the full (100%) rest angle of folds the pattern gives\n"
+    "                          none (import: 180 as Origami Simulator; pattern: 57.3)\n"
+    "      --fold-percent=P    how far the run folds: analysis.end = P/100 of the\n"
+    "                          target angles, as Origami Simulator's fold percent\n"
+    "                          (default 100)\n"
     "      --modes=K           shape modes per fold (defaults.modes, default 1:\n"
     "                          degree-4 vertices lock with 0)\n"
     "      --drive=GROUP       actuation group driven along the path: mountain,\n"
     "                          valley or all (default all; waterbomb: valley)\n"
     "      --gravity           gravity as load stage 1 (the analysis becomes a load path)\n"
     "      --load=N            a downward point load of N newtons on the probe's face\n"
-    "      --include-flat      F (flat) edges become folds too\n"
-    "      --unit=U            import: coordinate unit (m, cm, mm, in, unit = m)\n"
-    "      --frame=N           import: the FOLD frame to read (default: the first\n"
-    "                          crease-pattern frame)\n"
+    "      --include-flat      F (flat, facet) edges become folds (default: facets)\n"
+    "      --unit=U            import: coordinate unit (m, cm, mm, um, in, pt, px)\n"
+    "      --frame=N           import: the FOLD frame to read (default: the\n"
+    "                          crease-pattern frame, else the first flat one)\n"
+    "      --angle-sign=S      import: edges_foldAngle's convention: fold (FOLD 1.1,\n"
+    "                          valley positive; default), opposite, magnitude\n"
+    "                          (unsigned, the sign from the assignment)\n"
+    "      --planarize         import FOLD: merge close vertices and split crossing\n"
+    "                          edges as for SVG\n"
+    "      --merge=TOL         import: merge tolerance, a fraction of the sheet's\n"
+    "                          size (default 0.003)\n"
     "      --set KEY=VALUE     override a study setting (as for run)\n";
 
 typedef struct popts {
     const char *output;
-    const char *unit;
-    int frame;
+    sf_import_opts io;
+    int have_fold_angle;
     sf_gen_opts g;
     int have_cells, have_size, have_angle, have_drive;
     sf_cp_study_opts s;
@@ -71,6 +87,18 @@ static int parse_pair(const char *arg, const char *what, double *x, double *y, s
     *y = strtod(s, &end);
     if (end == s || *end)
         return sf_fail(err, SF_EINPUT, "--%s=%s: expected two numbers joined by 'x', e.g. 2x3", what, arg);
+    return SF_OK;
+}
+
+/* a length in metres, or with a unit: 0.2, 200mm, 8in */
+static int parse_length(const char *arg, double *x, sf_error *err)
+{
+    char *end;
+    *x = strtod(arg, &end);
+    double m = *end ? sf_unit_metres(end) : 1;
+    if (end == arg || !(m > 0) || !isfinite(*x) || !(*x > 0))
+        return sf_fail(err, SF_EINPUT, "--size=%s: a positive length in m, or with a unit (200mm, 20cm, 8in)", arg);
+    *x *= m;
     return SF_OK;
 }
 
@@ -108,6 +136,8 @@ static int parse(int argc, char **argv, popts *p, sf_error *err)
         {"unit", required_argument, NULL, 'u'},   {"frame", required_argument, NULL, 'r'},
         {"set", required_argument, NULL, 's'},    {"help", no_argument, NULL, 'h'},
         {"drive", required_argument, NULL, 'd'},
+        {"fold-percent", required_argument, NULL, 'P'}, {"angle-sign", required_argument, NULL, 'S'},
+        {"planarize", no_argument, NULL, 'Z'},          {"merge", required_argument, NULL, 'm'},
         {NULL, 0, NULL, 0},
     };
     optind = 1;
@@ -124,8 +154,29 @@ static int parse(int argc, char **argv, popts *p, sf_error *err)
             p->g.m = (int)x; p->g.n = (int)y; p->have_cells = 1;
             break;
         case 'z':
+            if (strcmp(argv[0], "import") == 0) {
+                if (parse_length(optarg, &p->io.size, err)) return err->code;
+                break;
+            }
             if (parse_pair(optarg, "size", &p->g.a, &p->g.b, err)) return err->code;
             p->have_size = 1;
+            break;
+        case 'P':
+            if (parse_num(optarg, "fold-percent", &x, err)) return err->code;
+            if (!(x > 0 && x <= 100)) return sf_fail(err, SF_EINPUT, "--fold-percent=%s: must be in (0, 100]", optarg);
+            p->s.fold_percent = x;
+            break;
+        case 'S':
+            if (strcmp(optarg, "fold") == 0) p->io.angle_sign = SF_SIGN_FOLD;
+            else if (strcmp(optarg, "opposite") == 0) p->io.angle_sign = SF_SIGN_OPPOSITE;
+            else if (strcmp(optarg, "magnitude") == 0) p->io.angle_sign = SF_SIGN_MAGNITUDE;
+            else return sf_fail(err, SF_EINPUT, "--angle-sign=%s: fold, opposite or magnitude", optarg);
+            break;
+        case 'Z': p->io.planarize = 1; break;
+        case 'm':
+            if (parse_num(optarg, "merge", &x, err)) return err->code;
+            if (!(x > 0 && x < 0.1)) return sf_fail(err, SF_EINPUT, "--merge=%s: a fraction of the sheet's size in (0, 0.1)", optarg);
+            p->io.merge = x;
             break;
         case 'a': if (parse_num(optarg, "angle", &p->g.angle, err)) return err->code; p->have_angle = 1; break;
         case 'w':
@@ -136,6 +187,7 @@ static int parse(int argc, char **argv, popts *p, sf_error *err)
             if (parse_num(optarg, "fold-angle", &x, err)) return err->code;
             if (!(x > 0 && x <= 180)) return sf_fail(err, SF_EINPUT, "--fold-angle=%s: must be in (0, 180] degrees", optarg);
             p->s.fold_angle = x * M_PI / 180;
+            p->have_fold_angle = 1;
             break;
         case 'k':
             if (parse_num(optarg, "modes", &x, err)) return err->code;
@@ -152,11 +204,15 @@ static int parse(int argc, char **argv, popts *p, sf_error *err)
             p->s.drive = strcmp(optarg, "all") ? optarg : NULL;
             p->have_drive = 1;
             break;
-        case 'u': p->unit = optarg; break;
+        case 'u':
+            if (!(sf_unit_metres(optarg) > 0))
+                return sf_fail(err, SF_EINPUT, "--unit=%s: unknown unit (m, cm, mm, um, nm, in, pt, px)", optarg);
+            p->io.unit = optarg;
+            break;
         case 'r':
             if (parse_num(optarg, "frame", &x, err)) return err->code;
             if (x != floor(x) || x < 0) return sf_fail(err, SF_EINPUT, "--frame=%s: a frame index 0, 1, ...", optarg);
-            p->frame = (int)x;
+            p->io.frame = (int)x;
             break;
         case 's':
             if (!strchr(optarg, '=')) return sf_fail(err, SF_EINPUT, "--set needs KEY=VALUE");
@@ -220,7 +276,7 @@ int sf_cmd_pattern(int argc, char **argv, sf_error *err)
     popts p;
     memset(&p, 0, sizeof p);
     sf_cp_study_opts_default(&p.s);
-    p.frame = -1;
+    sf_import_opts_default(&p.io);
     p.sets = calloc((size_t)argc + 1, sizeof *p.sets);
     if (!p.sets) return sf_fail(err, SF_ENOMEM, "out of memory");
     for (int i = 0; i < argc; i++) {
@@ -233,7 +289,7 @@ int sf_cmd_pattern(int argc, char **argv, sf_error *err)
     if (!rc && optind + 1 != argc)
         rc = sf_fail(err, SF_EINPUT, "%s: expected %s", argv[0],
                      strcmp(argv[0], "pattern") == 0 ? "one pattern name (miura, yoshimura, waterbomb, twist, hypar)"
-                     : strcmp(argv[0], "import") == 0 ? "one FOLD file" : "one study file");
+                     : strcmp(argv[0], "import") == 0 ? "one FOLD or SVG file" : "one study file");
     if (rc) { free(p.sets); return SF_CMD_USAGE; }
     if (!rc) {
         if (strcmp(argv[0], "pattern") == 0) {
@@ -243,7 +299,14 @@ int sf_cmd_pattern(int argc, char **argv, sf_error *err)
             }
             else rc = cmd_pattern(argv, &p, err);
         } else if (strcmp(argv[0], "import") == 0) {
-            rc = sf_cmd_import(argc, argv, p.cmdline, p.output, p.unit, p.frame, &p.s, p.nset, p.sets, err);
+            /* Origami Simulator folds a mountain or valley without an angle to
+             * 180 degrees at 100% */
+            if (!p.have_fold_angle) p.s.fold_angle = M_PI;
+            if (!ends_with(p.output, ".cfg") && !ends_with(p.output, ".fold")) {
+                sf_fail(err, SF_EINPUT, "import: -o %s: the output must end in .cfg (a study) or .fold", p.output);
+                rc = SF_CMD_USAGE;
+            } else
+                rc = sf_cmd_import(argc, argv, p.cmdline, p.output, &p.io, &p.s, p.nset, p.sets, err);
         } else if (!ends_with(p.output, ".fold")) {
             sf_fail(err, SF_EINPUT, "export: -o %s: the output must end in .fold", p.output);
             rc = SF_CMD_USAGE;

@@ -60,10 +60,12 @@ int sf_plot_trajectory(const char *dir, sf_error *err);
 #define SF_CMD_USAGE (-2)   /* returned for a usage error (message in err): exit 2 */
 int sf_cmd_is_pattern(const char *cmd);
 int sf_cmd_pattern(int argc, char **argv, sf_error *err);
-/* cmd_fold.c: import a FOLD file as a study; export a study as FOLD. */
+/* cmd_fold.c: import a FOLD or SVG crease pattern as a study (or as
+ * FOLD); export a study as FOLD. */
 struct sf_cp_study_opts;
-int sf_cmd_import(int argc, char **argv, const char *cmdline, const char *output, const char *unit,
-                  int frame, struct sf_cp_study_opts *so, int nset,
+struct sf_import_opts;
+int sf_cmd_import(int argc, char **argv, const char *cmdline, const char *output,
+                  const struct sf_import_opts *io, struct sf_cp_study_opts *so, int nset,
                   const char **sets, sf_error *err);
 int sf_cmd_export(int argc, char **argv, const char *output, int nset,
                   const char **sets, sf_error *err);

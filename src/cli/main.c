@@ -41,7 +41,8 @@ static const char *usage_text =
     "                          (probes and fold angles at matched p)\n"
     "  pattern NAME -o F       generate a tessellation (miura, yoshimura,\n"
     "                          waterbomb) as a study (.cfg) or FOLD (.fold)\n"
-    "  import P.fold -o S.cfg  a FOLD crease pattern as a ready-to-run study\n"
+    "  import P.fold -o S.cfg  a FOLD or SVG crease pattern as a ready-to-run\n"
+    "                          study (P.svg: Origami Simulator's colours)\n"
     "  export S.cfg -o P.fold  a study's crease pattern as FOLD\n"
     "                          (smoothfold pattern --help for their options)\n"
     "  sweep STUDY.cfg --vary KEY=V1,V2,... -o DIR\n"
@@ -63,6 +64,8 @@ static const char *usage_text =
     "                          output.plots: true for dynamics, false else)\n"
     "      --folds=LIST        plot, run --plot: folds drawn in angles.png (names,\n"
     "                          groups, numbers, or all)\n"
+    "      --allow-include=DIR a study's @include may read files in DIR too\n"
+    "                          (default: only the study's folder)\n"
     "  -q, --quiet             no progress lines\n"
     "  -v, --verbose           check: every interior vertex (default: a summary)\n"
     "  -h, --help              show this help and exit\n"
@@ -247,6 +250,34 @@ static int dispatch(const command *cmd, char **args, sf_options *opt)
 
 enum { OPT_SET = 256, OPT_ANGLES, OPT_FORCE, OPT_PLOT, OPT_NOPLOT, OPT_TOL, OPT_FOLDS };
 
+/* --allow-include=DIR (any command, repeatable): a study's @include may
+ * read from DIR too (src/pattern/study_include.c).  Taken out of argv
+ * here and passed on as SMOOTHFOLD_ALLOW_INCLUDE, which sweeps hand to
+ * their runs.  Returns 0, or 2 after a usage message. */
+static int take_allow_include(int *argc, char **argv)
+{
+    int k = 1;
+    for (int i = 1; i < *argc; i++) {
+        const char *dir = NULL;
+        if (strncmp(argv[i], "--allow-include=", 16) == 0) dir = argv[i] + 16;
+        else if (strcmp(argv[i], "--allow-include") == 0 && i + 1 < *argc) dir = argv[++i];
+        if (!dir) { argv[k++] = argv[i]; continue; }
+        char real[4096];
+        if (!*dir || !realpath(dir, real))
+            return fail_usage("--allow-include needs an existing folder");
+        const char *old = getenv("SMOOTHFOLD_ALLOW_INCLUDE");
+        size_t n = (old ? strlen(old) + 1 : 0) + strlen(real) + 1;
+        char *v = malloc(n);
+        if (!v) return 3;
+        snprintf(v, n, "%s%s%s", old ? old : "", old ? ":" : "", real);
+        setenv("SMOOTHFOLD_ALLOW_INCLUDE", v, 1);
+        free(v);
+    }
+    argv[k] = NULL;
+    *argc = k;
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     blas_kernels_for_this_cpu(argv);
@@ -266,6 +297,8 @@ int main(int argc, char **argv)
         {"version", no_argument, NULL, 'V'},
         {NULL, 0, NULL, 0},
     };
+    int arc = take_allow_include(&argc, argv);
+    if (arc) return arc;
     if (argc >= 2 && strcmp(argv[1], "sweep") == 0) return sf_cmd_sweep(argc - 1, argv + 1);
     if (argc >= 2 && strcmp(argv[1], "keys") == 0) return sf_cmd_keys(argc - 1, argv + 1);
     if (argc >= 2 && sf_cmd_is_pattern(argv[1])) {   /* pattern, import, export */

@@ -1,7 +1,9 @@
 /* cp_from_study.c - a study's crease pattern as FOLD sees it (cpattern.h):
  * the study's vertices with their names, its folds in study order, then
- * the outline edges of the topology (with the vertices it inserted), and
- * the crease-pattern faces. */
+ * the outline edges of the topology (with the vertices it inserted), the
+ * facet edges (F: faces.facets, or with faces.bending the facet hinges,
+ * which are folds), and the crease-pattern faces (not with rigid faces and
+ * facet edges: the rigid faces do not split at them, FOLD's faces would). */
 #include "cpattern.h"
 
 #include <math.h>
@@ -40,17 +42,92 @@ int sf_cp_from_study(const sf_study *s, const sf_topology *t, sf_cpattern *cp,
     for (int v = 0; v < s->nvertices; v++)
         if (sf_cp_add_vertex(cp, s->vertices[v].x[0], s->vertices[v].x[1], s->vertices[v].name) < 0)
             goto oom;
+    /* a facet edge may end on a fold's centre line (import joins collinear
+     * folds through such vertices): the fold is split there, so that the
+     * FOLD graph stays planar; its first piece keeps edge number i, the
+     * others follow the folds (and import joins them again) */
+    int *cut = NULL, ncut = 0;
+    double *cpar = NULL;
+    if (s->nfacet_edges) {
+        cut = malloc(sizeof *cut * (size_t)(2 * s->nfacet_edges + 1));
+        cpar = malloc(sizeof *cpar * (size_t)(2 * s->nfacet_edges + 1));
+        if (!cut || !cpar) { free(cut); free(cpar); goto oom; }
+    }
+    int *piece_a = NULL, *piece_b = NULL, *piece_f = NULL, npiece = 0, cappiece = 0;
     for (int i = 0; i < s->nfolds; i++) {
         double ang = NAN;
         char a = fold_sign(s, i, &ang, err);
-        if (!a) { sf_cp_free(cp); return err->code; }
-        int e = sf_cp_add_edge(cp, s->folds[i].a, s->folds[i].b, a, ang);
-        if (e < 0) goto oom;
+        if (!a) { free(cut); free(cpar); free(piece_a); free(piece_b); free(piece_f); sf_cp_free(cp); return err->code; }
+        const double *pa = s->vertices[s->folds[i].a].x, *pb = s->vertices[s->folds[i].b].x;
+        double d[2] = {pb[0] - pa[0], pb[1] - pa[1]}, l2 = d[0] * d[0] + d[1] * d[1];
+        ncut = 0;
+        for (int k = 0; k < s->nfacet_edges; k++)
+            for (int j = 0; j < 2; j++) {
+                int v = s->facet_edges[k][j];
+                if (v == s->folds[i].a || v == s->folds[i].b) continue;
+                const double *q = s->vertices[v].x;
+                double t = ((q[0] - pa[0]) * d[0] + (q[1] - pa[1]) * d[1]) / l2;
+                double off = fabs((q[0] - pa[0]) * d[1] - (q[1] - pa[1]) * d[0]) / sqrt(l2);
+                int dup = 0;
+                for (int c = 0; c < ncut; c++) dup |= cut[c] == v;
+                if (t > 1e-9 && t < 1 - 1e-9 && off <= 1e-9 * sqrt(l2) && !dup) {
+                    int c = ncut++;   /* insertion by t */
+                    while (c > 0 && cpar[c - 1] > t) { cpar[c] = cpar[c - 1]; cut[c] = cut[c - 1]; c--; }
+                    cpar[c] = t;
+                    cut[c] = v;
+                }
+            }
+        int e = sf_cp_add_edge(cp, s->folds[i].a, ncut ? cut[0] : s->folds[i].b, a, ang);
+        if (e < 0) { free(cut); free(cpar); free(piece_a); free(piece_b); free(piece_f); goto oom; }
         snprintf(cp->e[e].name, SF_NAME_MAX, "%s", s->folds[i].name);
+        for (int c = 0; c < ncut; c++) {
+            if (npiece == cappiece) {
+                cappiece = cappiece ? 2 * cappiece : 64;
+                int *na = realloc(piece_a, sizeof *na * (size_t)cappiece);
+                if (na) piece_a = na;
+                int *nb = realloc(piece_b, sizeof *nb * (size_t)cappiece);
+                if (nb) piece_b = nb;
+                int *nf = realloc(piece_f, sizeof *nf * (size_t)cappiece);
+                if (nf) piece_f = nf;
+                if (!na || !nb || !nf) { free(cut); free(cpar); free(piece_a); free(piece_b); free(piece_f); goto oom; }
+            }
+            piece_a[npiece] = cut[c];
+            piece_b[npiece] = c + 1 < ncut ? cut[c + 1] : s->folds[i].b;
+            piece_f[npiece++] = e;
+        }
     }
-    for (int k = 0; k < t->nboundary; k++)
-        if (sf_cp_add_edge(cp, t->boundary[k], t->boundary[(k + 1) % t->nboundary], 'B', NAN) < 0)
+    for (int k = 0; k < npiece; k++)
+        if (sf_cp_add_edge(cp, piece_a[k], piece_b[k], cp->e[piece_f[k]].assign, cp->e[piece_f[k]].angle) < 0) {
+            free(cut); free(cpar); free(piece_a); free(piece_b); free(piece_f);
             goto oom;
+        }
+    free(cut); free(cpar); free(piece_a); free(piece_b); free(piece_f);
+    for (int k = 0; k < t->nboundary; k++) {
+        /* outline edges split at facet ends on them, as the folds */
+        int a = t->boundary[k], b = t->boundary[(k + 1) % t->nboundary];
+        const double *pa = s->vertices[a].x, *pb = s->vertices[b].x;
+        double d[2] = {pb[0] - pa[0], pb[1] - pa[1]}, l2 = d[0] * d[0] + d[1] * d[1];
+        int prev = a;
+        for (;;) {
+            int next = b;
+            double tbest = 1, tprev = ((s->vertices[prev].x[0] - pa[0]) * d[0] + (s->vertices[prev].x[1] - pa[1]) * d[1]) / l2;
+            for (int f = 0; f < s->nfacet_edges; f++)
+                for (int j = 0; j < 2; j++) {
+                    const double *q = s->vertices[s->facet_edges[f][j]].x;
+                    double tq = ((q[0] - pa[0]) * d[0] + (q[1] - pa[1]) * d[1]) / l2;
+                    double off = fabs((q[0] - pa[0]) * d[1] - (q[1] - pa[1]) * d[0]) / sqrt(l2);
+                    if (tq > tprev + 1e-9 && tq < tbest - 1e-9 && off <= 1e-9 * sqrt(l2)) { tbest = tq; next = s->facet_edges[f][j]; }
+                }
+            if (sf_cp_add_edge(cp, prev, next, 'B', NAN) < 0) goto oom;
+            if (next == b) break;
+            prev = next;
+        }
+    }
+    if (s->nfacet_edges && !s->bending) {   /* bending faces: the facet hinges are the F edges */
+        for (int k = 0; k < s->nfacet_edges; k++)
+            if (sf_cp_add_edge(cp, s->facet_edges[k][0], s->facet_edges[k][1], 'F', 0.0) < 0) goto oom;
+        return SF_OK;   /* the topology's rigid faces ignore the facet edges */
+    }
     int total = 0;
     for (int f = 0; f < t->nfaces; f++) total += t->faces[f].nverts;
     cp->face_start = malloc((size_t)(t->nfaces + 1) * sizeof *cp->face_start);

@@ -29,8 +29,13 @@ typedef struct plan {
     const sf_cp_study_opts *o;
     int *outline, noutline;     /* cp vertex indices, ccw, collinear fold ends dropped */
     int nfold;
-    int *fold_edge;             /* fold k -> cp edge */
-    double *width;              /* per cp edge (0 for non-folds) [m] */
+    int *fold_edge;             /* fold k -> its first cp edge (assignment, angle, name) */
+    int (*fold_end)[2];         /* fold k -> cp vertices [from, to] */
+    double (*fold_sb)[2];       /* fold k -> setbacks [at from, at to] [m] */
+    int nmerged;                /* cp edges that joined a longer fold */
+    int nfacet;
+    int *facet_edge;            /* facet k -> cp edge */
+    double *width;              /* per cp edge: the band width (folds), 0 (outline), -1 (other) [m] */
     double (*sb)[2];            /* per cp edge [m] */
     double *rest;               /* per fold: rest angle [rad], NAN for none */
     int ngroup;
@@ -39,14 +44,16 @@ typedef struct plan {
     int *group;                 /* per fold: group index or -1 */
     char (*vname)[SF_NAME_MAX]; /* per cp vertex */
     char *vused;
-    double w;                   /* the band width [m] */
+    double w, w_auto;           /* the band width [m]; the automatic one before fitting */
+    int w_fitted;               /* 1: narrowed so that every band keeps a quarter of its fold */
+    int halved;                 /* k: the automatic width halved k times to fit the faces */
     double fixed[2], probe[2];
 } plan;
 
 static void plan_free(plan *p)
 {
-    free(p->outline); free(p->fold_edge); free(p->width); free(p->sb);
-    free(p->rest); free(p->group); free(p->vname); free(p->vused);
+    free(p->outline); free(p->fold_edge); free(p->fold_end); free(p->fold_sb); free(p->facet_edge);
+    free(p->width); free(p->sb); free(p->rest); free(p->group); free(p->vname); free(p->vused);
 }
 
 static int is_ident(const char *s)
@@ -78,6 +85,89 @@ static int add_group(plan *p, const char *base, double rest)
     return p->ngroup++;
 }
 
+/* ---- folds: collinear edges through degree-2 vertices joined ------------ */
+
+typedef struct vinc { int nfold, nbound, e[2]; } vinc;
+
+/* can a fold pass straight through v (two collinear fold edges of one
+ * assignment and angle, nothing else but facet edges)? */
+static int pass_through(const sf_cpattern *cp, const vinc *vi, int v)
+{
+    if (vi[v].nfold != 2 || vi[v].nbound) return 0;
+    const sf_cp_edge *e1 = &cp->e[vi[v].e[0]], *e2 = &cp->e[vi[v].e[1]];
+    if (e1->assign != e2->assign) return 0;
+    if (!(isnan(e1->angle) && isnan(e2->angle)) && !(e1->angle == e2->angle)) return 0;
+    int u = e1->a == v ? e1->b : e1->a, w = e2->a == v ? e2->b : e2->a;
+    const double *a = cp->v[u].x, *b = cp->v[v].x, *c = cp->v[w].x;
+    double d1[2] = {b[0] - a[0], b[1] - a[1]}, d2[2] = {c[0] - b[0], c[1] - b[1]};
+    double cr = d1[0] * d2[1] - d1[1] * d2[0], dt = d1[0] * d2[0] + d1[1] * d2[1];
+    return dt > 0 && fabs(cr) <= 1e-9 * hypot(d1[0], d1[1]) * hypot(d2[0], d2[1]);
+}
+
+/* fold chains in the order of their first edges; a chain runs the way its
+ * first edge does */
+static int plan_folds(plan *p, int (*lastedge)[2], sf_error *err)
+{
+    const sf_cpattern *cp = p->cp;
+    vinc *vi = calloc((size_t)cp->nv + 1, sizeof *vi);
+    char *done = calloc((size_t)cp->ne + 1, 1);
+    if (!vi || !done) { free(vi); free(done); return sf_fail(err, SF_ENOMEM, "out of memory"); }
+    for (int e = 0; e < cp->ne; e++) {
+        int ends[2] = {cp->e[e].a, cp->e[e].b};
+        for (int k = 0; k < 2; k++) {
+            vinc *x = &vi[ends[k]];
+            if (cp->e[e].assign == 'B') x->nbound++;
+            else if (is_fold(cp, p->o, e)) { if (x->nfold < 2) x->e[x->nfold] = e; x->nfold++; }
+        }
+    }
+    for (int e0 = 0; e0 < cp->ne; e0++) {
+        if (done[e0] || !is_fold(cp, p->o, e0)) continue;
+        done[e0] = 1;
+        int end[2] = {cp->e[e0].a, cp->e[e0].b}, last[2] = {e0, e0};
+        for (int side = 0; side < 2; side++)   /* 0: back from a, 1: on from b */
+            while (pass_through(cp, vi, end[side])) {
+                int v = end[side], nx = vi[v].e[0] == last[side] ? vi[v].e[1] : vi[v].e[0];
+                if (done[nx]) break;
+                done[nx] = 1;
+                p->nmerged++;
+                last[side] = nx;
+                end[side] = cp->e[nx].a == v ? cp->e[nx].b : cp->e[nx].a;
+            }
+        int k = p->nfold++;
+        p->fold_edge[k] = e0;
+        p->fold_end[k][0] = end[0];
+        p->fold_end[k][1] = end[1];
+        lastedge[k][0] = last[0];   /* whose setbacks the fold's ends take */
+        lastedge[k][1] = last[1];
+    }
+    free(vi);
+    free(done);
+    return SF_OK;
+}
+
+/* setbacks at width w: per cp edge, then at each fold's ends */
+static void plan_setbacks(plan *p, const int *loop, int nl, const int (*lastedge)[2])
+{
+    const sf_cpattern *cp = p->cp;
+    double *wu = malloc((size_t)(cp->ne + 1) * sizeof *wu);
+    if (!wu) return;
+    for (int e = 0; e < cp->ne; e++)
+        wu[e] = cp->e[e].assign == 'B' ? 0 : is_fold(cp, p->o, e) ? p->w / cp->unit : -1;
+    sf_cp_setbacks(cp, wu, loop, nl, 1.25, 0.1, p->sb);
+    free(wu);
+    for (int k = 0; k < p->nfold; k++)
+        for (int s = 0; s < 2; s++) {
+            int e = lastedge[k][s], v = p->fold_end[k][s];
+            p->fold_sb[k][s] = cp->unit * p->sb[e][cp->e[e].a == v ? 0 : 1];
+        }
+}
+
+static double fold_len(const plan *p, int k)
+{
+    const double *a = p->cp->v[p->fold_end[k][0]].x, *b = p->cp->v[p->fold_end[k][1]].x;
+    return p->cp->unit * hypot(b[0] - a[0], b[1] - a[1]);
+}
+
 static int plan_make(plan *p, const sf_cpattern *cp, const sf_cp_study_opts *o, sf_error *err)
 {
     memset(p, 0, sizeof *p);
@@ -85,49 +175,69 @@ static int plan_make(plan *p, const sf_cpattern *cp, const sf_cp_study_opts *o, 
     p->o = o;
     int *loop, nl;
     if (sf_cp_outline(cp, &loop, &nl, NULL, err)) return err->code;
-    p->fold_edge = malloc((size_t)cp->ne * sizeof *p->fold_edge);
-    p->width = calloc((size_t)cp->ne, sizeof *p->width);
-    p->sb = calloc((size_t)cp->ne, sizeof *p->sb);
-    p->rest = malloc((size_t)cp->ne * sizeof *p->rest);
-    p->group = malloc((size_t)cp->ne * sizeof *p->group);
-    p->vname = calloc((size_t)cp->nv, sizeof *p->vname);
-    p->vused = calloc((size_t)cp->nv, 1);
+    size_t ne = (size_t)cp->ne + 1;
+    p->fold_edge = malloc(ne * sizeof *p->fold_edge);
+    p->fold_end = malloc(ne * sizeof *p->fold_end);
+    p->fold_sb = malloc(ne * sizeof *p->fold_sb);
+    p->facet_edge = malloc(ne * sizeof *p->facet_edge);
+    p->width = calloc(ne, sizeof *p->width);
+    p->sb = calloc(ne, sizeof *p->sb);
+    p->rest = malloc(ne * sizeof *p->rest);
+    p->group = malloc(ne * sizeof *p->group);
+    p->vname = calloc((size_t)cp->nv + 1, sizeof *p->vname);
+    p->vused = calloc((size_t)cp->nv + 1, 1);
     p->outline = malloc((size_t)nl * sizeof *p->outline);
-    if (!p->fold_edge || !p->width || !p->sb || !p->rest || !p->group || !p->vname ||
-        !p->vused || !p->outline) {
-        free(loop);
+    int (*lastedge)[2] = malloc(ne * sizeof *lastedge);
+    if (!p->fold_edge || !p->fold_end || !p->fold_sb || !p->facet_edge || !p->width || !p->sb || !p->rest ||
+        !p->group || !p->vname || !p->vused || !p->outline || !lastedge) {
+        free(loop); free(lastedge);
         return sf_fail(err, SF_ENOMEM, "out of memory");
     }
+    if (plan_folds(p, lastedge, err)) { free(loop); free(lastedge); return err->code; }
     double lmin = INFINITY;
-    for (int e = 0; e < cp->ne; e++) {
-        if (!is_fold(cp, o, e)) continue;
-        const double *a = cp->v[cp->e[e].a].x, *b = cp->v[cp->e[e].b].x;
-        double l = cp->unit * hypot(b[0] - a[0], b[1] - a[1]);
-        if (l < lmin) lmin = l;
-        p->fold_edge[p->nfold++] = e;
-        p->vused[cp->e[e].a] = p->vused[cp->e[e].b] = 1;
+    for (int k = 0; k < p->nfold; k++) {
+        lmin = fmin(lmin, fold_len(p, k));
+        p->vused[p->fold_end[k][0]] = p->vused[p->fold_end[k][1]] = 1;
     }
-    for (int e = 0; e < cp->ne; e++)   /* the ends of facet edges (F) are kept */
-        if (cp->e[e].assign == 'F' && !o->include_flat) p->vused[cp->e[e].a] = p->vused[cp->e[e].b] = 1;
+    for (int e = 0; e < cp->ne; e++)
+        if (cp->e[e].assign == 'F' && !o->include_flat) {
+            p->facet_edge[p->nfacet++] = e;
+            p->vused[cp->e[e].a] = p->vused[cp->e[e].b] = 2;   /* 2: listed, not a fold end */
+        }
     if (p->nfold == 0) {
-        free(loop);
-        return sf_fail(err, SF_EINPUT, "the crease pattern has no folds (no M, V or U edges%s)",
-                       o->include_flat ? ", nor F" : "");
+        free(loop); free(lastedge);
+        return sf_fail(err, SF_EINPUT, "the crease pattern has no folds (no M, V or U edges%s)%s",
+                       o->include_flat ? ", nor F" : "",
+                       p->nfacet && !o->include_flat ? ": its F (flat, facet) edges become folds with --include-flat" : "");
     }
     if (o->width > 0) p->w = o->width;
     else {   /* 0.1 x the shortest fold, to 3 digits */
         char wb[40];
         snprintf(wb, sizeof wb, "%.3g", 0.1 * lmin);
-        p->w = strtod(wb, NULL);
+        p->w = p->w_auto = strtod(wb, NULL);
     }
+    plan_setbacks(p, loop, nl, (const int (*)[2])lastedge);
+    if (!(o->width > 0)) {
+        /* setbacks grow with the width: narrow it where a band would keep
+         * less than a quarter of its fold (narrow sectors, as in a fan) */
+        double fit = INFINITY;
+        for (int k = 0; k < p->nfold; k++) {
+            double s = p->fold_sb[k][0] + p->fold_sb[k][1];
+            if (s > 0) fit = fmin(fit, p->w * 0.75 * fold_len(p, k) / s);
+        }
+        if (fit < p->w) {
+            char wb[40];
+            snprintf(wb, sizeof wb, "%.2g", fit * (1 - 1e-9));
+            double w2 = strtod(wb, NULL);
+            if (w2 > fit) w2 = fit;
+            p->w = w2;
+            p->w_fitted = 1;
+            plan_setbacks(p, loop, nl, (const int (*)[2])lastedge);
+        }
+    }
+    free(lastedge);
+    for (int e = 0; e < cp->ne; e++) p->width[e] = 0;
     for (int k = 0; k < p->nfold; k++) p->width[p->fold_edge[k]] = p->w;
-    /* setbacks in pattern units, then metres */
-    double *wu = malloc((size_t)cp->ne * sizeof *wu);
-    if (!wu) { free(loop); return sf_fail(err, SF_ENOMEM, "out of memory"); }
-    for (int e = 0; e < cp->ne; e++) wu[e] = p->width[e] / cp->unit;
-    sf_cp_setbacks(cp, wu, loop, nl, 1.25, 0.1, p->sb);
-    free(wu);
-    for (int e = 0; e < cp->ne; e++) { p->sb[e][0] *= cp->unit; p->sb[e][1] *= cp->unit; }
     /* outline: drop vertices on a straight stretch that only end folds
      * (the topology inserts them again) */
     for (int k = 0; k < nl; k++) {
@@ -197,8 +307,7 @@ static void emit(const plan *p, sf_outbuf *b, const char *name)
     for (int k = 0; k < p->noutline; k++)
         sf_outbuf_printf(b, "%s\"%s\"", k ? ", " : "", p->vname[p->outline[k]]);
     sf_outbuf_printf(b, "]; };\n\n");
-    int nflat = 0;   /* F edges not made folds: facet edges of bending faces */
-    for (int e = 0; e < cp->ne; e++) nflat += cp->e[e].assign == 'F' && !o->include_flat;
+    int nflat = p->nfacet;   /* F edges not made folds: facet edges of bending faces */
     int plate = o->bending || nflat;
     sf_outbuf_printf(b, "materials = {\n"
                      "  fold = { E = 15.2e6; nu = 0.45; thickness = 1.8e-3; density = 1200.0; };\n"
@@ -215,14 +324,22 @@ static void emit(const plan *p, sf_outbuf *b, const char *name)
         sf_outbuf_printf(b, "faces = {\n  material = \"face\";\n  bending = %s;\n", o->bending ? "true" : "false");
         if (nflat) {
             sf_outbuf_printf(b, "  facets = [");
-            int k = 0;
-            for (int e = 0; e < cp->ne; e++)
-                if (cp->e[e].assign == 'F' && !o->include_flat)
-                    sf_outbuf_printf(b, "%s\"%s %s\"", k++ ? ", " : "", p->vname[cp->e[e].a], p->vname[cp->e[e].b]);
+            for (int k = 0; k < p->nfacet; k++) {
+                const sf_cp_edge *ed = &cp->e[p->facet_edge[k]];
+                sf_outbuf_printf(b, "%s\"%s %s\"", k ? ", " : "", p->vname[ed->a], p->vname[ed->b]);
+            }
             sf_outbuf_printf(b, "];\n");
         }
         sf_outbuf_printf(b, "};\n\n");
     }
+    if (p->halved)
+        sf_outbuf_printf(b, "# The band width is the automatic one halved %d time%s: wider bands did not fit\n"
+                         "# the faces (their bodies between the bands would be empty, or bands overlap).\n",
+                         p->halved, p->halved == 1 ? "" : "s");
+    else if (p->w_fitted)
+        sf_outbuf_printf(b, "# The band width is narrower than 0.1 x the shortest fold (%s m) so that\n"
+                         "# every band keeps at least a quarter of its fold between its setbacks.\n",
+                         real(r1, p->w_auto));
     sf_outbuf_printf(b, "defaults = {\n  width = %s;   # band width of every fold\n"
                      "  continuity = 1;\n  modes = %d;\n  material = \"fold\";\n};\n\n",
                      real(r1, p->w), o->modes);
@@ -237,15 +354,15 @@ static void emit(const plan *p, sf_outbuf *b, const char *name)
     }
     sf_outbuf_printf(b, "folds = (\n");
     for (int k = 0; k < p->nfold; k++) {
-        int e = p->fold_edge[k];
-        const sf_cp_edge *ed = &cp->e[e];
+        const sf_cp_edge *ed = &cp->e[p->fold_edge[k]];
         sf_outbuf_printf(b, "  { ");
         if (ed->name[0] && is_ident(ed->name)) sf_outbuf_printf(b, "name = \"%s\"; ", ed->name);
-        sf_outbuf_printf(b, "from = \"%s\"; to = \"%s\";", p->vname[ed->a], p->vname[ed->b]);
+        sf_outbuf_printf(b, "from = \"%s\"; to = \"%s\";", p->vname[p->fold_end[k][0]],
+                         p->vname[p->fold_end[k][1]]);
         if (ed->assign == 'M' || ed->assign == 'V')
             sf_outbuf_printf(b, " assignment = \"%c\"; group = \"%s\";", ed->assign, p->gname[p->group[k]]);
         if (!o->setback_given)
-            sf_outbuf_printf(b, " setback = [%.4g, %.4g];", p->sb[e][0], p->sb[e][1]);
+            sf_outbuf_printf(b, " setback = [%.4g, %.4g];", p->fold_sb[k][0], p->fold_sb[k][1]);
         sf_outbuf_printf(b, " }%s%s\n", k + 1 < p->nfold ? "," : "",
                          ed->assign == 'U' ? "   # unassigned" : ed->assign == 'F' ? "   # flat" : "");
     }
@@ -271,16 +388,21 @@ static void emit(const plan *p, sf_outbuf *b, const char *name)
                          "  end = %d.0;\n  step = 0.05;\n  max_step = 0.1;\n  report = \"tip\";\n};\n",
                          nstage == 2 ? "stage 1 gravity, stage 2 the point load" : o->gravity ? "gravity" : "the point load",
                          nstage);
-    else if (p->ngroup && o->drive)
-        sf_outbuf_printf(b, "analysis = {\n  type = \"equilibrium\";\n"
-                         "  parameter = \"actuation\";   # the rest angle of group '%s' from 0 to its rest_angle\n"
-                         "  group = \"%s\";\n"
-                         "  end = 1.0;\n  step = 0.05;\n  max_step = 0.1;\n  report = \"tip\";\n};\n",
-                         o->drive, o->drive);
-    else if (p->ngroup)
-        sf_outbuf_printf(b, "analysis = {\n  type = \"equilibrium\";\n"
-                         "  parameter = \"actuation\";   # every group's rest angle from 0 to its rest_angle\n"
-                         "  end = 1.0;\n  step = 0.05;\n  max_step = 0.1;\n  report = \"tip\";\n};\n");
+    else if (p->ngroup) {
+        if (o->drive)
+            sf_outbuf_printf(b, "analysis = {\n  type = \"equilibrium\";\n"
+                             "  parameter = \"actuation\";   # the rest angle of group '%s' from 0 to its rest_angle\n"
+                             "  group = \"%s\";\n", o->drive, o->drive);
+        else
+            sf_outbuf_printf(b, "analysis = {\n  type = \"equilibrium\";\n"
+                             "  parameter = \"actuation\";   # every group's rest angle from 0 to its rest_angle\n");
+        if (o->fold_percent > 0)
+            sf_outbuf_printf(b, "  end = %s;   # --fold-percent %g (Origami Simulator's): p = 1 is the full target angle\n",
+                             real(r1, o->fold_percent / 100), o->fold_percent);
+        else
+            sf_outbuf_printf(b, "  end = 1.0;\n");
+        sf_outbuf_printf(b, "  step = 0.05;\n  max_step = 0.1;\n  report = \"tip\";\n};\n");
+    }
     else
         sf_outbuf_printf(b, "analysis = { type = \"none\"; };   # no assigned folds to actuate: add loads\n");
 }
@@ -338,13 +460,51 @@ static int choose_faces(plan *p, const char *tmp, sf_error *err)
     return SF_OK;
 }
 
+static int sizing_failed(const char *msg)
+{
+    return strstr(msg, "leave no band") || strstr(msg, "overlap") || strstr(msg, "too wide");
+}
+
+static int write_once(const sf_cpattern *cp, const sf_cp_study_opts *o, int halved, double *w_out,
+                      const char *path, int nset, const char *const *sets, sf_error *err);
+
 int sf_cp_write_study(const sf_cpattern *cp, const sf_cp_study_opts *o,
                       const char *path, int nset, const char *const *sets,
                       sf_error *err)
 {
+    double w = 0;
+    int rc = write_once(cp, o, 0, &w, path, nset, sets, err);
+    if (!rc || o->width > 0 || !sizing_failed(err->msg)) return rc;
+    /* the automatic width does not fit the faces (the setbacks only see the
+     * vertices): the largest of w/2, w/4, ... w/16 whose bands fit */
+    sf_error first = *err;
+    sf_cp_study_opts o2 = *o;
+    double w2;
+    for (int k = 1; k <= 4 && rc && sizing_failed(err->msg); k++) {
+        char wb[40];
+        snprintf(wb, sizeof wb, "%.2g", w / (1 << k));
+        o2.width = strtod(wb, NULL);
+        sf_error_clear(err);
+        rc = write_once(cp, &o2, k, &w2, path, nset, sets, err);
+    }
+    if (rc) {
+        char wb[40];
+        snprintf(wb, sizeof wb, "%.2g", w / 16);
+        *err = first;
+        size_t l = strlen(err->msg);
+        snprintf(err->msg + l, sizeof err->msg - l, " (halving it down to %s m did not fit either)", wb);
+    }
+    return rc;
+}
+
+static int write_once(const sf_cpattern *cp, const sf_cp_study_opts *o, int halved, double *w_out,
+                      const char *path, int nset, const char *const *sets, sf_error *err)
+{
     plan p;
     int rc = plan_make(&p, cp, o, err);
     if (rc) { plan_free(&p); return rc; }
+    p.halved = halved;
+    *w_out = p.w;
     const char *name = o->name ? o->name : cp->title[0] ? cp->title : "pattern";
     char tmp[1100];
     snprintf(tmp, sizeof tmp, "%s.tmp", path);
@@ -384,12 +544,28 @@ int sf_cp_write_study(const sf_cpattern *cp, const sf_cp_study_opts *o,
         sf_study_free(&s);
     }
     if (rc) {
-        /* a message about the temporary file names the output instead */
+        /* a message about the temporary file names no file: it is removed */
         char *at = strstr(err->msg, tmp);
         if (at) {
-            char rest[1024];
-            snprintf(rest, sizeof rest, "%s", at + strlen(tmp));
-            snprintf(at, sizeof err->msg - (size_t)(at - err->msg), "%s (generated)%s", path, rest);
+            char rest[SF_MSG_SIZE];
+            const char *r = at + strlen(tmp);
+            int line = 0, used = 0;
+            if (sscanf(r, ":%d%n", &line, &used) == 1) r += used;
+            snprintf(rest, sizeof rest, "%s", r);
+            if (line)
+                snprintf(at, sizeof err->msg - (size_t)(at - err->msg), "the generated study (line %d; %s not written)%s",
+                         line, path, rest);
+            else
+                snprintf(at, sizeof err->msg - (size_t)(at - err->msg), "the generated study (%s not written)%s", path, rest);
+        }
+        /* the bands do not fit: a narrower width is what to try */
+        if (strstr(err->msg, "leave no band") || strstr(err->msg, "overlap") || strstr(err->msg, "setback")) {
+            char w1[40], w2[40];
+            sf_cp_real(w1, sizeof w1, p.w);
+            snprintf(w2, sizeof w2, "%.2g", 0.5 * p.w);
+            size_t l = strlen(err->msg);
+            snprintf(err->msg + l, sizeof err->msg - l, "; the band width was %s m: try a narrower one, "
+                     "--set defaults.width=%s", w1, w2);
         }
     }
     remove(tmp);

@@ -176,9 +176,10 @@ int sf_cp_outline(const sf_cpattern *cp, int **out, int *n, const char *where,
     }
     for (int v = 0; v < cp->nv; v++)
         if (deg[v] != 0 && deg[v] != 2) {
+            int d = deg[v];   /* read before the array is freed */
             free(deg);
             return FAILW("%svertices_coords[%d]: %d boundary edges meet there (the outline must be "
-                         "one simple loop: 2 at each boundary vertex)", w, v, deg[v]);
+                         "one simple loop: 2 at each boundary vertex)", w, v, d);
         }
     free(deg);
     int *loop = malloc((size_t)nb * sizeof *loop);
@@ -204,7 +205,8 @@ int sf_cp_outline(const sf_cpattern *cp, int **out, int *n, const char *where,
     if (k != nb || cur != loop[0]) {
         free(loop);
         return FAILW("%sedges_assignment: the boundary (\"B\") edges form more than one loop "
-                     "(%d of %d edges in the loop through vertex %d)", w, k, nb, cp->e[first].a);
+                     "(%d of %d edges in the loop through vertex %d): a sheet is one piece with one outline, "
+                     "without holes (several patterns in one file?)", w, k, nb, cp->e[first].a);
     }
     if (loop_area(cp, loop, nb) < 0)
         for (int i = 1, j = nb - 1; i < j; i++, j--) {
@@ -275,7 +277,7 @@ void sf_cp_setbacks(const sf_cpattern *cp, const double *width,
         int nr = 0;
         for (int e = 0; e < cp->ne; e++) {
             int end = cp->e[e].a == v ? 0 : cp->e[e].b == v ? 1 : -1;
-            if (end < 0) continue;
+            if (end < 0 || width[e] < 0) continue;
             int o = end ? cp->e[e].a : cp->e[e].b;
             double dx = cp->v[o].x[0] - cp->v[v].x[0], dy = cp->v[o].x[1] - cp->v[v].x[1];
             double ang = atan2(dy, dx);

@@ -71,9 +71,20 @@ int sf_cp_check(const sf_cpattern *cp, const char *where, sf_error *err);
 int sf_cp_outline(const sf_cpattern *cp, int **out, int *n, const char *where,
                   sf_error *err);
 
+/* Drawn line work made planar (cp_clean.c): vertices within tol merged,
+ * edges split where they cross or where a vertex lies on them, zero-length
+ * edges dropped, duplicates merged (a line over the outline is the
+ * outline, a fold over a facet or unassigned line is the fold, a mountain
+ * over a valley is an error).  Faces are dropped. */
+int sf_cp_planarize(sf_cpattern *cp, double tol, const char *where, sf_error *err);
+
+/* outer[e] = 1 for the edges on the outer face of the pattern's graph (the
+ * loop walked around it from its leftmost vertex), else 0. */
+int sf_cp_outer_edges(const sf_cpattern *cp, char *outer, sf_error *err);
+
 /* Setbacks that keep the bands of the folds (edges with half-width
  * width[e]/2 > 0; edges with width[e] = 0 take part as lines only, e.g.
- * the boundary) from overlapping near every vertex: for two neighbouring
+ * the boundary; edges with width[e] < 0 not at all) from overlapping near every vertex: for two neighbouring
  * rays at a vertex with sector alpha < pi the bands' facing edge lines meet
  * at distances (h2 + h1 cos alpha)/sin alpha and (h1 + h2 cos alpha)/sin alpha
  * from the vertex; each band starts margin times farther, and at least
@@ -103,9 +114,12 @@ typedef struct sf_cp_study_opts {
     int fixed_given;          /* 1: fixed_face below, else the body of the
                                  face nearest the sheet's centroid */
     double fixed[2];
-    int include_flat;         /* F edges become folds too */
+    int include_flat;         /* F edges become folds too (else they are
+                                 written as facet edges, key facets) */
     double fold_angle;        /* actuation rest angle magnitude [rad] where the
                                  pattern gives none (> 0) */
+    double fold_percent;      /* analysis.end = fold_percent / 100 (Origami
+                                 Simulator's fold percent); <= 0: 100 */
     int modes;                /* defaults.modes (1: degree-4 vertices lock with 0) */
     int gravity;              /* add gravity (stage 1) */
     double load;              /* point load [N] downwards at the probe (0: none) */
@@ -121,7 +135,9 @@ void sf_cp_study_opts_default(sf_cp_study_opts *o);
  * overrides and build its topology: on any failure nothing is left at path
  * and err holds one line.  The fixed face is chosen on a first pass through
  * the topology.  With overrides the merged study is written instead (its
- * values, with the header comment). */
+ * values, with the header comment).  When the automatic width (o->width
+ * <= 0) gives bands that do not fit the faces, it is halved up to four
+ * times; the message of the first failure is kept when none fits. */
 int sf_cp_write_study(const sf_cpattern *cp, const sf_cp_study_opts *o,
                       const char *path, int nset, const char *const *sets,
                       sf_error *err);

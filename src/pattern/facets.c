@@ -175,16 +175,15 @@ static int split_face(const sf_study *s, int *v, int n, int face, const int (*gi
 }
 
 /* faces.facets: "from to" pairs of vertex names (read from the libconfig
- * tree; messages name the key and the element). */
-static int read_given(const sf_study *s, int (**given)[2], int *ngiven, sf_error *err)
+ * tree; messages name the key and the element) into s->facet_edges. */
+static int read_given(sf_study *s, sf_error *err)
 {
-    *given = NULL;
-    *ngiven = 0;
     const config_setting_t *fs = s->cfg ? config_lookup((config_t *)s->cfg, "faces.facets") : NULL;
     int n = fs ? config_setting_length(fs) : 0;
     if (n <= 0) return SF_OK;
-    *given = calloc((size_t)n, sizeof **given);
-    if (!*given) return sf_fail(err, SF_ENOMEM, "out of memory");
+    int (*given)[2] = calloc((size_t)n, sizeof *given);
+    if (!given) return sf_fail(err, SF_ENOMEM, "out of memory");
+    s->facet_edges = given;
     for (int g = 0; g < n; g++) {
         char a[SF_NAME_MAX], b[SF_NAME_MAX], extra[2];
         const char *txt = config_setting_get_string_elem(fs, (unsigned)g);
@@ -196,10 +195,19 @@ static int read_given(const sf_study *s, int (**given)[2], int *ngiven, sf_error
         if (ia < 0 || ib < 0)
             return sf_study_fail(s, err, SF_EINPUT, "faces.facets", "faces.facets[%d]: '%s': unknown vertex '%s'",
                                  g, txt, ia < 0 ? a : b);
-        (*given)[g][0] = ia;
-        (*given)[g][1] = ib;
+        if (ia == ib)
+            return sf_study_fail(s, err, SF_EINPUT, "faces.facets", "faces.facets[%d]: '%s': from and to are "
+                                 "the same vertex", g, txt);
+        for (int f = 0; f < s->nfolds; f++) {
+            int fa = s->folds[f].a, fb = s->folds[f].b;
+            if ((fa == ia && fb == ib) || (fa == ib && fb == ia))
+                return sf_study_fail(s, err, SF_EINPUT, "faces.facets", "faces.facets[%d]: '%s': the same line "
+                                     "as fold %d: a line is a fold or a facet edge, not both", g, txt, f + 1);
+        }
+        given[g][0] = ia;
+        given[g][1] = ib;
     }
-    *ngiven = n;
+    s->nfacet_edges = n;
     return SF_OK;
 }
 
@@ -358,16 +366,32 @@ static int append_facets(sf_study *s, const facet_list *L, const double *wf, con
     return SF_OK;
 }
 
+/* The study's fold whose centre line passes through vertex v between its
+ * ends (within tol), or -1. */
+static int fold_through(const sf_study *s, int v, double tol)
+{
+    for (int f = 0; f < s->nfolds; f++) {
+        const double *a = X(s, s->folds[f].a), *b = X(s, s->folds[f].b), *p = X(s, v);
+        double l = dist(a, b), t = ((p[0] - a[0]) * (b[0] - a[0]) + (p[1] - a[1]) * (b[1] - a[1])) / (l * l);
+        if (v != s->folds[f].a && v != s->folds[f].b && t > 0 && t < 1 && fabs(cross3(a, b, p)) <= tol * l)
+            return f;
+    }
+    return -1;
+}
+
 int sf_study_add_facets(sf_study *s, sf_error *err)
 {
-    if (!s->bending || s->nfacets) return SF_OK;
+    if (s->nfacets) return SF_OK;
+    if (!s->facet_edges && read_given(s, err)) return err->code;
+    if (!s->bending) return SF_OK;   /* the given facet edges stay for export (cp_from_study.c) */
     sf_topology t;
     if (sf_topology_build(s, &t, err)) return err->code;
     facet_list L = {0};
-    int (*given)[2] = NULL, ngiven = 0, *used = NULL, *poly = NULL;
+    const int (*given)[2] = (const int (*)[2])s->facet_edges;
+    int ngiven = s->nfacet_edges, *used = NULL, *poly = NULL;
     double *wf = NULL, (*sb)[2] = NULL;
     double *shortest = calloc((size_t)t.nfaces + 1, sizeof *shortest);
-    int rc = shortest ? read_given(s, &given, &ngiven, err) : sf_fail(err, SF_ENOMEM, "out of memory");
+    int rc = shortest ? SF_OK : sf_fail(err, SF_ENOMEM, "out of memory");
     if (!rc && ngiven && !(used = calloc((size_t)ngiven, sizeof *used)))
         rc = sf_fail(err, SF_ENOMEM, "out of memory");
     for (int f = 0; !rc && f < t.nfaces; f++) {
@@ -388,13 +412,24 @@ int sf_study_add_facets(sf_study *s, sf_error *err)
         shortest[f] = sh;
         char fname[160];
         sf_topology_face_name(s, &t, f, fname, sizeof fname);
-        rc = split_face(s, poly, n, f, (const int (*)[2])given, ngiven, used, &L, t.tol, err, fname);
+        rc = split_face(s, poly, n, f, given, ngiven, used, &L, t.tol, err, fname);
     }
     for (int g = 0; !rc && g < ngiven; g++)
-        if (!used[g])
-            rc = sf_study_fail(s, err, SF_EINPUT, "faces.facets", "faces.facets[%d]: %s-%s is not a diagonal of "
-                               "a face (a facet edge must join two corners of one face, inside it)", g,
-                               s->vertices[given[g][0]].name, s->vertices[given[g][1]].name);
+        if (!used[g]) {
+            int fe = -1, ve = -1;
+            for (int k = 0; k < 2 && fe < 0; k++)
+                if ((fe = fold_through(s, given[g][k], t.tol)) >= 0) ve = given[g][k];
+            if (fe >= 0)   /* import joins collinear folds through the ends of facet edges */
+                rc = sf_study_fail(s, err, SF_EINPUT, "faces.facets", "faces.facets[%d]: %s-%s ends at %s, which lies "
+                                   "on fold %d (%s->%s) between its ends, not at a corner of a face; --set "
+                                   "'faces.facets=[]' triangulates the faces automatically", g,
+                                   s->vertices[given[g][0]].name, s->vertices[given[g][1]].name, s->vertices[ve].name,
+                                   fe + 1, s->vertices[s->folds[fe].a].name, s->vertices[s->folds[fe].b].name);
+            else
+                rc = sf_study_fail(s, err, SF_EINPUT, "faces.facets", "faces.facets[%d]: %s-%s is not a diagonal of "
+                                   "a face (a facet edge must join two corners of one face, inside it)", g,
+                                   s->vertices[given[g][0]].name, s->vertices[given[g][1]].name);
+        }
     if (!rc && L.n) {
         wf = malloc((size_t)L.n * sizeof *wf);
         sb = malloc((size_t)L.n * sizeof *sb);
@@ -406,7 +441,6 @@ int sf_study_add_facets(sf_study *s, sf_error *err)
     }
     free(poly);
     free(shortest);
-    free(given);
     free(used);
     free(wf);
     free(sb);

@@ -7,7 +7,9 @@
 #include "pattern.h"
 #include "sf_error.h"
 
-/* With s->bending on (and no facets yet): triangulate every face (the
+/* faces.facets read into s->facet_edges (checked: two vertex names, not
+ * one fold's ends), bending or not.  With s->bending on (and no facets
+ * yet): triangulate every face (the
  * given faces.facets first, then ear clipping by shortest diagonal) and
  * append one fold per facet edge (facet = 1, K = 0, rest angle 0, no
  * group, a material of its own whose plate stiffness gives the hinge the

@@ -1,4 +1,7 @@
-/* fold_read.c - the crease pattern of a FOLD file (foldread.h). */
+/* fold_read.c - the crease pattern of a FOLD file (foldread.h): the frame
+ * chosen, its vertices laid into the x-y plane (fold_plane.c), its edges
+ * with their assignments and angles in the sign convention asked for.
+ * Coordinates stay in the file's units; import.c scales them. */
 #include "foldread.h"
 
 #include <jansson.h>
@@ -7,11 +10,15 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fold_plane.h"
+
 typedef struct rd {
     const char *path;
+    const sf_import_opts *o;
     json_t *root;
     json_t *frame;     /* the frame read */
     int index;         /* its number */
+    sf_import_info *info;
     sf_error *err;
 } rd;
 
@@ -30,20 +37,21 @@ static int nframes(json_t *root)
     return 1 + (json_is_array(ff) ? (int)json_array_size(ff) : 0);
 }
 
-/* a key of the frame, or of its parents when it inherits */
-static json_t *get(const rd *r, const char *key)
+/* a key of frame f, or of its parents when it inherits */
+static json_t *get_in(json_t *root, json_t *f, const char *key)
 {
-    json_t *f = r->frame;
     for (int depth = 0; f && depth < 64; depth++) {
         json_t *v = json_object_get(f, key);
         if (v) return v;
         if (!json_is_true(json_object_get(f, "frame_inherit"))) return NULL;
         json_t *par = json_object_get(f, "frame_parent");
-        if (!json_is_integer(par)) return f == r->root ? NULL : r->root;
-        f = frame_n(r->root, (int)json_integer_value(par));
+        if (!json_is_integer(par)) return f == root ? NULL : root;
+        f = frame_n(root, (int)json_integer_value(par));
     }
     return NULL;
 }
+
+static json_t *get(const rd *r, const char *key) { return get_in(r->root, r->frame, key); }
 
 static int has_class(json_t *f, const char *cls)
 {
@@ -55,9 +63,55 @@ static int has_class(json_t *f, const char *cls)
     return 0;
 }
 
-static int pick_frame(rd *r, int want)
+static const char *frame_name(int k, char *buf, size_t n)
 {
-    int n = nframes(r->root);
+    if (k == 0) snprintf(buf, n, "the top level (frame 0)");
+    else snprintf(buf, n, "file_frames[%d] (frame %d)", k - 1, k);
+    return buf;
+}
+
+/* the points of frame k, or NULL when they are not an array of numbers */
+static int frame_points(json_t *root, int k, double (**x)[3], int *n)
+{
+    *x = NULL;
+    *n = 0;
+    json_t *f = frame_n(root, k);
+    json_t *vc = json_is_object(f) ? get_in(root, f, "vertices_coords") : NULL;
+    if (!json_is_array(vc)) return -1;
+    size_t m = json_array_size(vc), i;
+    double (*p)[3] = malloc((m + 1) * sizeof *p);
+    if (!p) return -1;
+    json_t *pt;
+    json_array_foreach(vc, i, pt) {
+        size_t d = json_is_array(pt) ? json_array_size(pt) : 0;
+        if (d != 2 && d != 3) { free(p); return -1; }
+        p[i][2] = 0;
+        for (size_t c = 0; c < d; c++) {
+            json_t *v = json_array_get(pt, c);
+            if (!json_is_number(v) || !isfinite(json_number_value(v))) { free(p); return -1; }
+            p[i][c] = json_number_value(v);
+        }
+    }
+    *x = p;
+    *n = (int)m;
+    return 0;
+}
+
+static int frame_is_flat(json_t *root, int k)
+{
+    double (*x)[3];
+    int n;
+    if (frame_points(root, k, &x, &n)) return 0;
+    sf_plane pl;
+    int flat = n > 0 && sf_plane_fit(n, (const double (*)[3])x, NULL, NULL, 0, &pl) == 0 && pl.flat;
+    free(x);
+    return flat;
+}
+
+static int pick_frame(rd *r)
+{
+    int n = nframes(r->root), want = r->o->frame;
+    char fn[64];
     if (want >= 0) {
         if (want >= n)
             return BAD("%s: --frame %d: the file has %d frame%s (0 is the top level, file_frames[k] is frame k + 1)",
@@ -65,12 +119,16 @@ static int pick_frame(rd *r, int want)
         r->index = want;
     } else {
         r->index = -1;
-        for (int k = 0; k < n; k++)
-            if (has_class(frame_n(r->root, k), "creasePattern")) { r->index = k; break; }
-        if (r->index < 0 && has_class(r->root, "foldedForm"))
-            return BAD("%s: frame_classes: no \"creasePattern\" frame, the top level is a \"foldedForm\" "
-                       "(--frame N reads a frame as a crease pattern anyway)", r->path);
-        if (r->index < 0) r->index = 0;
+        for (int k = 0; k < n && r->index < 0; k++)
+            if (has_class(frame_n(r->root, k), "creasePattern")) r->index = k;
+        for (int k = 0; k < n && r->index < 0; k++)   /* Origami Simulator: a flat "foldedForm" */
+            if (frame_is_flat(r->root, k)) {
+                r->index = k;
+                sf_import_note(r->info, "no \"creasePattern\" frame: %s, a flat %s, read as the crease pattern",
+                               frame_name(k, fn, sizeof fn),
+                               has_class(frame_n(r->root, k), "foldedForm") ? "\"foldedForm\"" : "frame");
+            }
+        if (r->index < 0) r->index = 0;   /* its vertices say what is wrong */
     }
     r->frame = frame_n(r->root, r->index);
     if (!json_is_object(r->frame))
@@ -85,44 +143,95 @@ static const char *fld(const rd *r, char *buf, size_t n, const char *key)
     return buf;
 }
 
-static int unit_scale(const char *u, double *s)
+/* the first flat frame other than k, as "--frame N reads ...", or "" */
+static const char *flat_hint(const rd *r, char *buf, size_t n)
 {
-    static const struct { const char *n; double s; } tab[] = {
-        {"m", 1}, {"cm", 1e-2}, {"mm", 1e-3}, {"um", 1e-6}, {"nm", 1e-9},
-        {"in", 0.0254}, {"pt", 0.0254 / 72}, {"unit", 1},
-    };
-    for (size_t i = 0; i < sizeof tab / sizeof tab[0]; i++)
-        if (strcmp(u, tab[i].n) == 0) { *s = tab[i].s; return 1; }
-    return 0;
+    buf[0] = '\0';
+    int nf = nframes(r->root);
+    for (int k = 0; k < nf; k++)
+        if (k != r->index && frame_is_flat(r->root, k)) {
+            char fn[64];
+            snprintf(buf, n, "; %s lies flat: --frame %d reads it", frame_name(k, fn, sizeof fn), k);
+            break;
+        }
+    if (!buf[0]) snprintf(buf, n, "; no frame of the file lies flat: unfold it in the design tool "
+                          "(Origami Simulator: fold percent 0) and save it again");
+    return buf;
 }
 
 static int read_vertices(rd *r, sf_cpattern *cp)
 {
-    char f[128];
+    char f[128], h[160];
     json_t *vc = get(r, "vertices_coords");
     if (!vc) return BAD("%s: missing required field %s", r->path, fld(r, f, sizeof f, "vertices_coords"));
     if (!json_is_array(vc)) return BAD("%s: %s: expected an array of points", r->path, fld(r, f, sizeof f, "vertices_coords"));
-    size_t i;
+    size_t i, m = json_array_size(vc);
+    double (*x)[3] = malloc((m + 1) * sizeof *x);
+    if (!x) return sf_fail(r->err, SF_ENOMEM, "out of memory");
     json_t *p;
+    int rc = SF_OK, three = 0;
     json_array_foreach(vc, i, p) {
         size_t d = json_is_array(p) ? json_array_size(p) : 0;
-        if (d != 2 && d != 3)
-            return BAD("%s: %s[%zu]: expected [x, y] or [x, y, z]", r->path, fld(r, f, sizeof f, "vertices_coords"), i);
-        double x[3] = {0, 0, 0};
-        for (size_t k = 0; k < d; k++) {
+        if (d != 2 && d != 3) { rc = BAD("%s: %s[%zu]: expected [x, y] or [x, y, z]", r->path, fld(r, f, sizeof f, "vertices_coords"), i); break; }
+        x[i][2] = 0;
+        three |= d == 3;
+        for (size_t k = 0; k < d && !rc; k++) {
             json_t *c = json_array_get(p, k);
             if (!json_is_number(c))
-                return BAD("%s: %s[%zu][%zu]: not a number", r->path, fld(r, f, sizeof f, "vertices_coords"), i, k);
-            x[k] = json_number_value(c);
-            if (!isfinite(x[k]))
-                return BAD("%s: %s[%zu][%zu]: not finite", r->path, fld(r, f, sizeof f, "vertices_coords"), i, k);
+                rc = BAD("%s: %s[%zu][%zu]: not a number", r->path, fld(r, f, sizeof f, "vertices_coords"), i, k);
+            else if (!isfinite(x[i][k] = json_number_value(c)))
+                rc = BAD("%s: %s[%zu][%zu]: not finite", r->path, fld(r, f, sizeof f, "vertices_coords"), i, k);
         }
-        if (sf_cp_add_vertex(cp, x[0], x[1], NULL) < 0) return sf_fail(r->err, SF_ENOMEM, "out of memory");
-        if (x[2] != 0)
-            return BAD("%s: %s[%zu]: z = %g: a crease pattern lies flat (z = 0; this frame looks folded: "
-                       "choose a creasePattern frame with --frame)", r->path,
-                       fld(r, f, sizeof f, "vertices_coords"), i, x[2]);
+        if (rc) break;
     }
+    if (!rc && three) {
+        /* the faces' winding tells which side is up (FOLD: counter-clockwise) */
+        json_t *fv = get(r, "faces_vertices");
+        int nf = 0, *fs = NULL, *fvv = NULL;
+        if (json_is_array(fv)) {
+            size_t tot = 0, j;
+            json_t *fc;
+            json_array_foreach(fv, j, fc) tot += json_is_array(fc) ? json_array_size(fc) : 0;
+            fs = malloc((json_array_size(fv) + 1) * sizeof *fs);
+            fvv = malloc((tot + 1) * sizeof *fvv);
+            if (fs && fvv) {
+                int k = 0;
+                json_array_foreach(fv, j, fc) {
+                    fs[nf++] = k;
+                    size_t q;
+                    json_t *vi;
+                    json_array_foreach(fc, q, vi)
+                        if (json_is_integer(vi) && json_integer_value(vi) >= 0 && json_integer_value(vi) < (json_int_t)m)
+                            fvv[k++] = (int)json_integer_value(vi);
+                }
+                fs[nf] = k;
+            } else nf = 0;
+        }
+        sf_plane pl;
+        if (sf_plane_fit((int)m, (const double (*)[3])x, fs, fvv, nf, &pl)) rc = sf_fail(r->err, SF_ENOMEM, "out of memory");
+        free(fs);
+        free(fvv);
+        if (!rc && !pl.flat)
+            rc = BAD("%s: %s[%d]: %.3g off the plane that fits the vertices best: this frame is folded, "
+                     "smoothfold imports the flat crease pattern%s", r->path, fld(r, f, sizeof f, "vertices_coords"),
+                     pl.worst, pl.dev, flat_hint(r, h, sizeof h));
+        if (!rc) {
+            for (size_t k = 0; k < m; k++) sf_plane_map(&pl, x[k], x[k]);
+            if (!pl.is_xy) {
+                static const char *const axis[3] = {"y-z", "x-z", "x-y"};
+                int k = fabs(pl.n[0]) == 1 ? 0 : fabs(pl.n[1]) == 1 ? 1 : fabs(pl.n[2]) == 1 ? 2 : -1;
+                char plane[96];
+                if (k >= 0) snprintf(plane, sizeof plane, "the %s plane", axis[k]);
+                else snprintf(plane, sizeof plane, "the plane with normal (%.4g, %.4g, %.4g)", pl.n[0], pl.n[1], pl.n[2]);
+                sf_import_note(r->info, "the vertices lie in %s: turned into the x-y plane, seen from the side from "
+                               "which %s", plane, pl.how);
+            }
+        }
+    }
+    for (size_t k = 0; !rc && k < m; k++)
+        if (sf_cp_add_vertex(cp, x[k][0], x[k][1], NULL) < 0) rc = sf_fail(r->err, SF_ENOMEM, "out of memory");
+    free(x);
+    if (rc) return rc;
     json_t *nm = json_object_get(r->frame, "smoothfold:vertices_name");
     json_array_foreach(nm, i, p)
         if (i < (size_t)cp->nv && json_is_string(p))
@@ -130,20 +239,86 @@ static int read_vertices(rd *r, sf_cpattern *cp)
     return SF_OK;
 }
 
-static int read_edges(rd *r, sf_cpattern *cp)
+/* the angles against the assignments: which --angle-sign reads them */
+static const char *sign_hint(json_t *ea, json_t *fa)
+{
+    int fold_ok = 1, opp_ok = 1;
+    size_t i;
+    json_t *s;
+    json_array_foreach(ea, i, s) {
+        json_t *av = json_array_get(fa, i);
+        if (!json_is_string(s) || !json_is_number(av)) continue;
+        double a = json_number_value(av);
+        char c = json_string_value(s)[0];
+        if ((c == 'M' && a > 0) || (c == 'V' && a < 0)) fold_ok = 0;
+        if ((c == 'M' && a < 0) || (c == 'V' && a > 0)) opp_ok = 0;
+    }
+    if (!fold_ok && opp_ok) return "this file's angles are mountain positive: --angle-sign=opposite reads it";
+    return "this file's angles do not follow one sign convention (older Rabbit Ear files give magnitudes): "
+           "--angle-sign=magnitude reads them with the assignment's sign";
+}
+
+/* one angle in FOLD 1.1's convention, or an error */
+static int take_angle(rd *r, json_t *ea, json_t *fa, size_t i, char as, double *out)
 {
     char f[128], g[128];
+    json_t *av = fa ? json_array_get(fa, i) : NULL;
+    *out = NAN;
+    if (!av || json_is_null(av)) return SF_OK;
+    if (!json_is_number(av) || !isfinite(json_number_value(av)))
+        return BAD("%s: %s[%zu]: not a number", r->path, fld(r, f, sizeof f, "edges_foldAngle"), i);
+    double ang = json_number_value(av);
+    if (fabs(ang) > 180)
+        return BAD("%s: %s[%zu]: %g degrees: beyond [-180, 180]", r->path, fld(r, f, sizeof f, "edges_foldAngle"), i, ang);
+    if (r->o->angle_sign == SF_SIGN_OPPOSITE) ang = -ang;
+    else if (r->o->angle_sign == SF_SIGN_MAGNITUDE && (as == 'M' || as == 'V'))
+        ang = as == 'M' ? -fabs(ang) : fabs(ang);
+    if ((as == 'M' && ang > 0) || (as == 'V' && ang < 0)) {
+        if (r->o->angle_sign != SF_SIGN_FOLD)
+            return BAD("%s: %s[%zu]: %g degrees on a %s edge (%s[%zu] = \"%c\") with --angle-sign=opposite: "
+                       "--angle-sign=magnitude takes the assignment's sign", r->path,
+                       fld(r, f, sizeof f, "edges_foldAngle"), i, -ang, as == 'M' ? "mountain" : "valley",
+                       fld(r, g, sizeof g, "edges_assignment"), i, as);
+        return BAD("%s: %s[%zu]: %g degrees on a %s edge (%s[%zu] = \"%c\"): FOLD 1.1's angles are "
+                   "valley positive, mountain negative; %s", r->path, fld(r, f, sizeof f, "edges_foldAngle"),
+                   i, ang, as == 'M' ? "mountain" : "valley", fld(r, g, sizeof g, "edges_assignment"), i, as,
+                   sign_hint(ea, fa));
+    }
+    *out = ang;
+    return SF_OK;
+}
+
+/* edges_assignment absent: B on the outer face, else the sign of the angle
+ * (FOLD: valley positive), F at 0, U without one */
+static int derive_assignments(rd *r, sf_cpattern *cp)
+{
+    char *outer = malloc((size_t)cp->ne + 1);
+    if (!outer) return sf_fail(r->err, SF_ENOMEM, "out of memory");
+    int rc = sf_cp_outer_edges(cp, outer, r->err), nb = 0, nmv = 0, nf = 0, nu = 0;
+    for (int e = 0; !rc && e < cp->ne; e++) {
+        sf_cp_edge *ed = &cp->e[e];
+        if (outer[e]) { ed->assign = 'B'; ed->angle = NAN; nb++; }
+        else if (isnan(ed->angle)) { ed->assign = 'U'; nu++; }
+        else if (ed->angle == 0) { ed->assign = 'F'; nf++; }
+        else { ed->assign = ed->angle > 0 ? 'V' : 'M'; nmv++; }
+    }
+    free(outer);
+    if (!rc)
+        sf_import_note(r->info, "no edges_assignment: derived, %d boundary (the outer face), %d mountain or valley "
+                       "(the sign of edges_foldAngle), %d flat (angle 0), %d unassigned (no angle)", nb, nmv, nf, nu);
+    return rc;
+}
+
+static int read_edges(rd *r, sf_cpattern *cp)
+{
+    char f[128];
     json_t *ev = get(r, "edges_vertices");
     if (!ev) return BAD("%s: missing required field %s", r->path, fld(r, f, sizeof f, "edges_vertices"));
     if (!json_is_array(ev)) return BAD("%s: %s: expected an array of [v1, v2]", r->path, fld(r, f, sizeof f, "edges_vertices"));
-    json_t *ea = get(r, "edges_assignment");
-    if (!ea)
-        return BAD("%s: missing field %s: needed for the outline (\"B\" edges) and the folds (\"M\", \"V\")",
-                   r->path, fld(r, f, sizeof f, "edges_assignment"));
-    if (!json_is_array(ea) || json_array_size(ea) != json_array_size(ev))
+    json_t *ea = get(r, "edges_assignment"), *fa = get(r, "edges_foldAngle");
+    if (ea && (!json_is_array(ea) || json_array_size(ea) != json_array_size(ev)))
         return BAD("%s: %s: expected an array of %zu strings, one per edge", r->path,
                    fld(r, f, sizeof f, "edges_assignment"), json_array_size(ev));
-    json_t *fa = get(r, "edges_foldAngle");
     if (fa && (!json_is_array(fa) || json_array_size(fa) != json_array_size(ev)))
         return BAD("%s: %s: expected an array of %zu numbers, one per edge", r->path,
                    fld(r, f, sizeof f, "edges_foldAngle"), json_array_size(ev));
@@ -159,32 +334,29 @@ static int read_edges(rd *r, sf_cpattern *cp)
                 return BAD("%s: %s[%zu]: vertex %lld does not exist (vertices_coords has %d)", r->path,
                            fld(r, f, sizeof f, "edges_vertices"), i, (long long)x, cp->nv);
         }
-        json_t *s = json_array_get(ea, i);
-        const char *as = json_is_string(s) ? json_string_value(s) : "";
-        if (strcmp(as, "C") == 0 || strcmp(as, "J") == 0)
-            return BAD("%s: %s[%zu]: \"%s\" (%s) is not supported: a smoothfold sheet is one piece, "
-                       "without cuts or joins", r->path, fld(r, f, sizeof f, "edges_assignment"), i, as,
-                       as[0] == 'C' ? "cut" : "join");
-        if (strlen(as) != 1 || !strchr("BMVFU", as[0]))
-            return BAD("%s: %s[%zu]: unknown assignment %s%s%s (FOLD: B, M, V, F, U)", r->path,
-                       fld(r, f, sizeof f, "edges_assignment"), i, json_is_string(s) ? "\"" : "",
-                       json_is_string(s) ? as : "(not a string)", json_is_string(s) ? "\"" : "");
-        double ang = NAN;
-        json_t *av = fa ? json_array_get(fa, i) : NULL;
-        if (av && !json_is_null(av)) {
-            if (!json_is_number(av) || !isfinite(json_number_value(av)))
-                return BAD("%s: %s[%zu]: not a number", r->path, fld(r, f, sizeof f, "edges_foldAngle"), i);
-            ang = json_number_value(av);
-            if (fabs(ang) > 180)
-                return BAD("%s: %s[%zu]: %g degrees: beyond [-180, 180]", r->path, fld(r, f, sizeof f, "edges_foldAngle"), i, ang);
-            if ((as[0] == 'M' && ang > 0) || (as[0] == 'V' && ang < 0))
-                return BAD("%s: %s[%zu]: %g degrees on a %s edge (%s[%zu] = \"%c\"): FOLD's angles are "
-                           "valley positive, mountain negative", r->path, fld(r, f, sizeof f, "edges_foldAngle"),
-                           i, ang, as[0] == 'M' ? "mountain" : "valley", fld(r, g, sizeof g, "edges_assignment"),
-                           i, as[0]);
+        char as = 'U';
+        if (ea) {
+            json_t *s = json_array_get(ea, i);
+            const char *t = json_is_string(s) ? json_string_value(s) : "";
+            if (strcmp(t, "C") == 0 || strcmp(t, "J") == 0)
+                return BAD("%s: %s[%zu]: \"%s\" (%s) is not supported: a smoothfold sheet is one piece, "
+                           "without cuts or joins", r->path, fld(r, f, sizeof f, "edges_assignment"), i, t,
+                           t[0] == 'C' ? "cut" : "join");
+            if (strlen(t) != 1 || !strchr("BMVFUbmvfu", t[0]))
+                return BAD("%s: %s[%zu]: unknown assignment %s%s%s (FOLD: B, M, V, F, U)", r->path,
+                           fld(r, f, sizeof f, "edges_assignment"), i, json_is_string(s) ? "\"" : "",
+                           json_is_string(s) ? t : "(not a string)", json_is_string(s) ? "\"" : "");
+            as = (char)(t[0] & ~32);   /* FOLD allows lower case */
         }
-        if (sf_cp_add_edge(cp, (int)json_integer_value(a), (int)json_integer_value(b), as[0], ang) < 0)
+        double ang;
+        int rc = take_angle(r, ea, fa, i, ea ? as : 'U', &ang);
+        if (rc) return rc;
+        if (sf_cp_add_edge(cp, (int)json_integer_value(a), (int)json_integer_value(b), as, ang) < 0)
             return sf_fail(r->err, SF_ENOMEM, "out of memory");
+    }
+    if (!ea) {
+        int rc = derive_assignments(r, cp);
+        if (rc) return rc;
     }
     json_t *nm = json_object_get(r->frame, "smoothfold:edges_name");
     json_array_foreach(nm, i, e)
@@ -226,10 +398,27 @@ static int read_faces(rd *r, sf_cpattern *cp)
     return SF_OK;
 }
 
-int sf_fold_read(const char *path, int frame, const char *unit,
-                 sf_cpattern *cp, char *unit_note, size_t nnote, sf_error *err)
+static void read_texts(rd *r, sf_cpattern *cp)
+{
+    json_t *t = get(r, "frame_title");
+    if (!json_is_string(t)) t = json_object_get(r->root, "file_title");
+    if (json_is_string(t)) snprintf(cp->title, sizeof cp->title, "%s", json_string_value(t));
+    json_t *d = get(r, "frame_description");
+    if (!json_is_string(d)) d = json_object_get(r->root, "file_description");
+    if (json_is_string(d)) {
+        const char *s = json_string_value(d);
+        size_t k = 0;
+        for (; s[k] && k + 1 < sizeof cp->description; k++)
+            cp->description[k] = (s[k] == '"' || s[k] == '\\' || s[k] == '\n') ? ' ' : s[k];
+        cp->description[k] = '\0';
+    }
+}
+
+int sf_fold_read(const char *path, const sf_import_opts *o, sf_cpattern *cp,
+                 double *unit_m, sf_import_info *info, sf_error *err)
 {
     sf_cp_init(cp);
+    *unit_m = 0;
     json_error_t je;
     json_t *root = json_load_file(path, JSON_REJECT_DUPLICATES, &je);
     if (!root) {
@@ -237,38 +426,21 @@ int sf_fold_read(const char *path, int frame, const char *unit,
             return sf_fail(err, SF_EIO, "%s: cannot read: %s", path, je.text);
         return sf_fail(err, SF_EINPUT, "%s:%d:%d: malformed JSON: %s", path, je.line, je.column, je.text);
     }
-    rd r = {path, root, NULL, 0, err};
+    rd r = {path, o, root, NULL, 0, info, err};
     int rc = SF_OK;
     if (!json_is_object(root)) rc = sf_fail(err, SF_EINPUT, "%s: the top level is not a JSON object", path);
-    if (!rc) rc = pick_frame(&r, frame);
+    if (!rc) rc = pick_frame(&r);
     if (!rc) rc = read_vertices(&r, cp);
     if (!rc) rc = read_edges(&r, cp);
-    if (!rc) rc = read_faces(&r, cp);
+    if (!rc && !o->planarize) rc = read_faces(&r, cp);
     if (!rc) {
         json_t *fu = get(&r, "frame_unit");
-        const char *u = unit ? unit : json_is_string(fu) ? json_string_value(fu) : "unit";
-        if (!unit_scale(u, &cp->unit))
-            rc = unit ? sf_fail(err, SF_EINPUT, "--unit %s: unknown unit (m, cm, mm, um, nm, in, pt, unit)", u)
-                      : sf_fail(err, SF_EINPUT, "%s: frame_unit \"%s\": unknown unit (m, cm, mm, um, nm, in, pt, "
-                                "unit; or give --unit)", path, u);
-        else if (unit_note)
-            snprintf(unit_note, nnote, "%s%s", u,
-                     strcmp(u, "unit") == 0 ? " (no physical unit in the file: read as metres; --unit to change)"
-                     : unit ? " (--unit)" : " (frame_unit)");
-        json_t *t = get(&r, "frame_title");
-        if (!json_is_string(t)) t = json_object_get(root, "file_title");
-        if (json_is_string(t)) snprintf(cp->title, sizeof cp->title, "%s", json_string_value(t));
-        json_t *d = get(&r, "frame_description");
-        if (!json_is_string(d)) d = json_object_get(root, "file_description");
-        if (json_is_string(d)) {
-            const char *s = json_string_value(d);
-            size_t k = 0;
-            for (; s[k] && k + 1 < sizeof cp->description; k++)
-                cp->description[k] = (s[k] == '"' || s[k] == '\\' || s[k] == '\n') ? ' ' : s[k];
-            cp->description[k] = '\0';
-        }
+        const char *u = json_is_string(fu) ? json_string_value(fu) : "unit";
+        if (strcmp(u, "unit") != 0 && !(*unit_m = sf_unit_metres(u)) && !o->unit && !(o->size > 0))
+            rc = sf_fail(err, SF_EINPUT, "%s: frame_unit \"%s\": unknown unit (m, cm, mm, um, nm, in, pt; "
+                         "--unit U or --size L reads the file)", path, u);
+        read_texts(&r, cp);
     }
-    if (!rc) rc = sf_cp_check(cp, path, err);
     json_decref(root);
     if (rc) sf_cp_free(cp);
     return rc;

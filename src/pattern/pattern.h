@@ -83,6 +83,9 @@ typedef struct sf_study {
     int nfolds;
     sf_fold_def *folds;
 
+    int nfacet_edges;           /* faces.facets: lines across faces that are no */
+    int (*facet_edges)[2];      /* folds; vertex indices [from, to] (facets.c) */
+
     int nmaterials;
     sf_material *materials;
     int face_material;          /* index, -1 when no face material is given */

@@ -335,6 +335,7 @@ void sf_study_free(sf_study *s)
     free(s->vertices);
     free(s->outline);
     free(s->folds);
+    free(s->facet_edges);
     free(s->materials);
     free(s->loads);
     free(s->groups);
@@ -389,11 +390,16 @@ int sf_study_load(const char *path, int nset, const char *const *sets,
     config_init(cfg);
     config_set_destructor(cfg, free_hook);
     s->cfg = cfg;
-    {   /* @include relative to the study's directory */
+    {   /* @include relative to the study's folder, and confined to it
+         * (study_include.c) */
         char dir[1024];
         snprintf(dir, sizeof dir, "%s", path);
         char *sl = strrchr(dir, '/');
-        if (sl) { sl[sl == dir ? 1 : 0] = '\0'; config_set_include_dir(cfg, dir); }
+        if (sl) sl[sl == dir ? 1 : 0] = '\0';
+        else snprintf(dir, sizeof dir, ".");
+        config_set_include_dir(cfg, dir);
+        rc = st_check_includes(path, text, dir, err);
+        if (rc) { free(text); sf_study_free(s); return rc; }
     }
     if (!config_read_file(cfg, path)) {
         if (config_error_type(cfg) == CONFIG_ERR_FILE_IO) {

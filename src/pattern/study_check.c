@@ -34,6 +34,7 @@ int st_find_int_overflow(const char *p, char *tok, size_t ntok)
             }
             if (*p) p++;
         } else if (isalpha(c) || c == '_' || c == '*' || c == '@') {
+            p++;   /* '@' (of @include) is no identifier character: step over it */
             while (isalnum((unsigned char)*p) || *p == '_' || *p == '-' || *p == '*') p++;
         } else if (isdigit(c) || (c == '.' && isdigit((unsigned char)p[1]))) {
             const char *start = p;

@@ -90,4 +90,8 @@ const char *st_get_str(const config_setting_t *g, const char *key,
                        const char *dpattern);
 int st_parse_def(const char *def, double *out, int max);
 
+/* study_include.c: every @include of text (and of the files it
+ * includes) resolves inside incdir or a folder of SMOOTHFOLD_ALLOW_INCLUDE */
+int st_check_includes(const char *path, const char *text, const char *incdir, sf_error *err);
+
 #endif

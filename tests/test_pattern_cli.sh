@@ -1,5 +1,5 @@
 #!/bin/sh
-# test_pattern.sh - `smoothfold pattern`: every generator's study passes
+# test_pattern_cli.sh - `smoothfold pattern`: every generator's study passes
 # `smoothfold check` (twist and hypar with their faces bending); the studies
 # in studies/ are what their documented command writes today
 # (docs/guides/patterns.md); options and their errors.
@@ -59,5 +59,6 @@ bad "unknown pattern 'kresling' (patterns: miura, yoshimura, waterbomb, twist, h
 bad "--cells=2x: expected two numbers joined by 'x'" pattern miura --cells=2x
 bad "sector angle 95 degrees: must be in (0, 90)" pattern miura --angle=95
 bad "--angle applies to miura and twist only" pattern yoshimura --angle=30
-# bands wider than the setbacks allow: the topology's message, naming the output
-bad "bad.cfg (generated)" pattern miura --width=0.05
+# bands wider than the setbacks allow: the topology's message about the
+# generated study (never written), and the width to try
+bad "not written): fold 1 (v0_1->v1_1): setbacks 0.005 + 0.05413 leave no band (fold length 0.04); the band width was 0.05 m: try a narrower one, --set defaults.width=0.025" pattern miura --width=0.05

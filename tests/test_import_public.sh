@@ -1,0 +1,89 @@
+#!/bin/sh
+# test_import_public.sh - crease patterns nobody here wrote (tests/public/,
+# README.md there: repository, commit, path, licence) through `smoothfold
+# import` and `check`, as tests/public/manifest.tsv expects: each file that
+# should read imports in one command, says its size on its first line and
+# checks; each that should not fails with one line naming the problem.
+# Independent figures (tests/public_check.py reads the FOLD file with
+# Python's json): the folds' total length, in units of the sheet's larger
+# side, is the file's mountain, valley and unassigned edges' (joining
+# collinear edges into one band keeps it), and every F edge is a facet.
+# SVG: the round trip SVG -> FOLD -> study gives the same folds, with the
+# same assignments, and the same facet edges as SVG -> study; FOLD: the
+# study exported and imported again has them too.  TAP.
+src=${SF_SRCDIR:-$(dirname "$0")/..}
+. "$src/tests/tap.sh"
+man="$src/tests/public/manifest.tsv"
+py=$(command -v python3)
+n=$(grep -vc '^#' "$man")
+nsvg=$(grep -v '^#' "$man" | awk -F'\t' '$1 ~ /\.svg$/ && $3 == "ok"' | wc -l)
+nfold=$(grep -v '^#' "$man" | awk -F'\t' '$1 ~ /\.fold(\.gz)?$/ && $3 == "ok" && $2 == "-"' | wc -l)
+echo "1..$((n + nsvg + 2 * nfold + 3))"
+grep -v '^#' "$man" > "$tmp/manifest"   # read below without a pipe: ok/nok count on
+while IFS='	' read -r file opts want; do
+    f="$src/tests/public/$file"
+    case $file in *.gz) g="$tmp/$(basename "$file" .gz)"; gzip -dc "$f" > "$g"; f=$g;; esac
+    [ "$opts" = "-" ] && opts=""
+    b=$(basename "$f" | sed 's/\.[a-z]*$//')
+    out=$("$bin" import "$f" $opts -o "$tmp/$b.cfg" 2>"$tmp/err"); rc=$?
+    if [ "$want" != ok ]; then
+        nl=$(wc -l < "$tmp/err")
+        if [ $rc -ne 0 ] && [ $rc -lt 128 ] && [ "$nl" -eq 1 ] && [ ! -e "$tmp/$b.cfg" ] && grep -qF -- "$want" "$tmp/err"; then
+            ok "$file ${opts:+$opts }refused: $want"
+        else nok "$file ${opts:+$opts }refused (status $rc, $nl lines): expected '$want'"; sed 's/^/#   /' "$tmp/err"; fi
+        continue
+    fi
+    first=$(printf '%s\n' "$out" | head -1)
+    case "$first" in *"crease pattern, "*" x "*" mm ("*) ;; *) rc=99;; esac
+    if [ $rc -eq 0 ] && timeout 300 "$bin" check "$tmp/$b.cfg" >/dev/null 2>>"$tmp/err"; then
+        ok "$file ${opts:+$opts }imports and checks (${first#*crease pattern, })"
+    else nok "$file ${opts:+$opts }imports and checks (status $rc; first line: $first)"; sed 's/^/#   /' "$tmp/err" | head -5; continue; fi
+    if [ -z "$py" ]; then continue; fi
+    case $file in
+    *.svg)
+        # the round trip: SVG -> FOLD -> study against SVG -> study
+        if "$bin" import "$f" -o "$tmp/$b.rt.fold" >/dev/null 2>"$tmp/err" &&
+           "$bin" import "$tmp/$b.rt.fold" -o "$tmp/$b.rt.cfg" >/dev/null 2>>"$tmp/err" &&
+           r=$("$py" "$src/tests/public_check.py" same "$tmp/$b.cfg" "$tmp/$b.rt.cfg" 2e-10 2>&1); then
+            ok "$file: SVG -> FOLD -> study has the same $r"
+        else nok "$file: SVG -> FOLD -> study: $r"; sed 's/^/#   /' "$tmp/err" | head -3; fi;;
+    *)
+        [ -n "$opts" ] && continue
+        # independent figures: the file's fold length and F edges
+        set -- $("$py" "$src/tests/public_check.py" fold "$f")
+        flen=$1 nf=$2 fspan=$4
+        set -- $("$py" "$src/tests/public_check.py" cfg "$tmp/$b.cfg")
+        slen=$1 nfac=$2 side=$("$py" -c "import sys; print(max(float(sys.argv[1]), float(sys.argv[2])))" "$5" "$6")
+        if "$py" -c "import sys; a=float(sys.argv[1])/float(sys.argv[2]); b=float(sys.argv[3])/float(sys.argv[4]); sys.exit(abs(a-b) > 1e-9*b)" \
+                "$slen" "$side" "$flen" "$fspan" && [ "$nfac" -eq "$nf" ]; then
+            ok "$file: fold length $slen m on a $side m sheet, as the file's ($flen on $fspan); $nfac facet edges = its F edges"
+        else nok "$file: fold length $slen on $side (file: $flen on $fspan), facets $nfac (file F: $nf)"; fi
+        # the study's crease pattern through export and import again:
+        # the same folds and facet edges (folds split at the facets' ends
+        # on them in FOLD, joined again)
+        if "$bin" export "$tmp/$b.cfg" -o "$tmp/$b.ex.fold" 2>"$tmp/err" &&
+           "$bin" import "$tmp/$b.ex.fold" -o "$tmp/$b.ex.cfg" >/dev/null 2>>"$tmp/err" &&
+           r=$("$py" "$src/tests/public_check.py" same "$tmp/$b.cfg" "$tmp/$b.ex.cfg" 2e-10 2>&1); then
+            ok "$file: study -> export -> import has the same $r"
+        else nok "$file: study -> export -> import: $r"; sed 's/^/#   /' "$tmp/err" | head -3; fi;;
+    esac
+done < "$tmp/manifest"
+# units and the fold percent
+"$bin" import "$src/tests/public/rabbit-ear/crane-cp.fold" --size=30cm --fold-percent=60 -o "$tmp/s.cfg" > "$tmp/out" 2>&1
+if grep -q "crane-cp.fold: FOLD crease pattern, 300 x 300 mm (scaled to 300 mm across (--size))" "$tmp/out" &&
+   grep -q '^  end = 0.6;' "$tmp/s.cfg" && grep -q 'rest_angle = 3.141592653589793;' "$tmp/s.cfg"; then
+    ok "--size=30cm: 300 mm across; --fold-percent=60: analysis.end = 0.6 of the 180-degree target"
+else nok "--size and --fold-percent"; sed 's/^/#   /' "$tmp/out"; fi
+"$bin" import "$src/tests/public/rabbit-ear/crane-cp.fold" --unit=in -o "$tmp/u.cfg" > "$tmp/out" 2>&1
+if grep -q "crane-cp.fold: FOLD crease pattern, 25.4 x 25.4 mm (coordinates in in (--unit))" "$tmp/out"; then
+    ok "--unit=in: a unit square is 25.4 mm"
+else nok "--unit=in"; sed 's/^/#   /' "$tmp/out"; fi
+# bending faces on an imported triangulation: a facet edge that ends where
+# import joined two folds is refused naming the fold and what to try; the
+# automatic triangulation then gives every face its facets
+"$bin" import "$src/tests/public/rabbit-ear/kraft-bird-base.fold" -o "$tmp/k.cfg" >/dev/null 2>&1
+"$bin" check "$tmp/k.cfg" --set faces.bending=true -q > "$tmp/out" 2>&1; rc=$?
+if [ $rc -eq 1 ] && grep -q "faces.facets\[0\]: v132-v77 ends at v132, which lies on fold [0-9]* (v[0-9]*->v[0-9]*) between its ends, not at a corner of a face; --set 'faces.facets=\[\]' triangulates the faces automatically" "$tmp/out" &&
+   "$bin" check "$tmp/k.cfg" --set faces.bending=true --set 'faces.facets=[]' -q >/dev/null 2>&1; then
+    ok "kraft-bird-base.fold, faces.bending: a facet edge ending on a joined fold refused with the way out, which checks"
+else nok "kraft-bird-base.fold with faces.bending (status $rc)"; sed 's/^/#   /' "$tmp/out" | head -3; fi
