@@ -10,7 +10,9 @@
 # curve: there the rows agree to 1e-6 and each branch's last point (p = the
 # end of the range, or where the branch stops) to 1e-8.  Then the
 # numerical tests of the start, stability and bifurcations run again under
-# each kernel other than the environment's.  Output is TAP.
+# one kernel other than the environment's (Prescott, which every x86-64
+# CPU runs; Haswell where the environment asks for Prescott).  Output is
+# TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 build=${SF_BUILDDIR:-.}
 . "$src/tests/tap.sh"
@@ -115,10 +117,12 @@ if [ -z "$bad" ] && awk -v w="$worst" 'BEGIN {exit !(w <= 1e-8)}'; then
 else
     nok "miura 2x2 actuation under ${envk:-default}$others:${bad:- states differ by $worst}"
 fi
-# the numerical tests again, under each other kernel
+# the numerical tests again, under one other kernel
+second=Prescott
+[ "$envk" = Prescott ] && second=Haswell
 for t in $again; do
     res=
-    for k in $others; do
+    for k in $second; do
         case $t in
             *.sh) out=$(OPENBLAS_CORETYPE=$k sh "$src/tests/$t" 2>&1); st=$?
                   echo "$out" | grep -q '^not ok' && st=1;;
@@ -127,7 +131,7 @@ for t in $again; do
         [ $st = 0 ] || res="$res $k"
     done
     if [ -z "$res" ]; then
-        ok "$t passes under$others"
+        ok "$t passes under $second"
     else
         nok "$t fails under$res"
     fi
