@@ -1,6 +1,6 @@
 #!/bin/sh
 # test_loadpath.sh - the 2x2 Miura-ori of bench/miura-study.sh under
-# gravity and a tip load (issue 12 items 3 and 5; docs/formulations.md,
+# gravity and a tip load (issue 12 items 3 and 5; docs/design/model.md,
 # "Gravity and a tip load: a residual floor").  The path is the mode-I
 # branch (the three straight crease lines fold, the zigzag ones stay
 # flat), where nearly dependent constraint rows leave Newton a residual

@@ -67,7 +67,7 @@ out=$("$bin" run "$src/tests/studies/miura2.cfg" --set solver.formulation=\"pose
       --set analysis.flat_start=\"direct\" --set analysis.stability=false --set analysis.max_steps=20 \
       -o "$tmp/miura2" -q 2>&1); rc=$?
 # max_steps = 20 ends the path inside its range: status 7 and a
-# "# STOPPED EARLY" line (docs/output-format.md), the rows are complete
+# "# STOPPED EARLY" line (docs/reference/output-files.md), the rows are complete
 if [ $rc -ne 7 ] || ! grep -q "^# STOPPED EARLY: analysis.max_steps = 20" "$tmp/miura2/branch.tsv"; then
     echo "not ok $n - miura2 poses, direct flat start: status $rc: $out"
 else

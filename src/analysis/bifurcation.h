@@ -117,7 +117,7 @@ int sf_bif_prepare(sf_bif *b);
  * at arclength sarc: remember it for the next check (not while locating). */
 void sf_bif_point_written(sf_bif *b, const cont_point *pt, double sarc);
 
-/* Step bound near predicted eigenvalue crossings (docs/bifurcation.md,
+/* Step bound near predicted eigenvalue crossings (docs/guides/stability.md,
  * "Step length near predicted crossings").  R: the stability at the
  * regular point pt (unit tangent pt->ty, pt->tp).  The slopes dmu_j/ds of
  * the eigenvalues R->eig come from a second evaluation with st2 at

@@ -1,7 +1,7 @@
 /* compare.h - reference data compared with a computed path (prefix
  * sf_compare_).
  *
- * A study names reference files in `references` (docs/study-format.md):
+ * A study names reference files in `references` (docs/reference/study-keys.md):
  * CSV files with a provenance header (`# source:`, `# kind:` measured or
  * simulated, `# units:`, optionally `# columns:`), one row of column
  * names, then rows of numbers.  One column, the abscissa, places each

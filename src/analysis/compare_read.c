@@ -27,7 +27,7 @@ static int readable(const char *path)
     return stat(path, &st) == 0 && S_ISREG(st.st_mode);
 }
 
-/* The search rule of docs/study-format.md: an absolute path as is; a
+/* The search rule of docs/reference/study-keys.md: an absolute path as is; a
  * relative one beside the study, then in each directory of
  * $SMOOTHFOLD_DATA (':'-separated), then in shared/data of the study's
  * directory and of each directory above it. */
@@ -220,7 +220,7 @@ int cm_read_reference(cmp_ref *r, sf_error *err)
                                 : !r->units[0] ? "'# units:'" : NULL;
             if (missing) {
                 rc = sf_fail(err, SF_EINPUT, "%s:%d: no provenance header: %s must come before the column names "
-                             "(docs/study-format.md, reference files)", r->path, ln, missing);
+                             "(docs/reference/study-keys.md, reference files)", r->path, ln, missing);
                 break;
             }
             char k0[16];

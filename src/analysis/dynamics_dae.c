@@ -1,5 +1,5 @@
 /* dynamics_dae.c - the equations of motion of a trajectory (dynamics.h,
- * docs/dynamics.md): lumped masses from the faces, inertia forces and
+ * docs/guides/dynamics.md): lumped masses from the faces, inertia forces and
  * their Jacobian, kinetic energy, the constraint rows, and the DAE
  * residual and Jacobian IDA solves (sf_dyn_residual, sf_dyn_jacobian). */
 #include "dynamics_impl.h"

@@ -141,7 +141,7 @@ double sf_equil_reg_eps(const sf_equil *q, const double *y);
  * which makes the Jacobian's regularisation -eps D exact; on = 0 restores
  * g.  For where Newton stagnates at a residual floor because nearly
  * dependent rows (singular values below sqrt(eps)) keep part of g
- * (docs/formulations.md, "Gravity and a tip load").  0 or 1 (no memory). */
+ * (docs/design/model.md, "Gravity and a tip load").  0 or 1 (no memory). */
 int sf_equil_anchor(const double *y, double p, int on, void *user);
 
 /* The weight of constraint row r in the multiplier block: eps, times

@@ -17,7 +17,7 @@
 #include "study.h"
 
 /* the generic state of the row selection and the QR's rank tolerance
- * (relative to the longest scaled row; docs/formulations.md) */
+ * (relative to the longest scaled row; docs/design/model.md) */
 #define ROWSEL_SEED 20261123u
 #define ROWSEL_RTOL 1e-9
 #define ROWSEL_AMP 0.1
@@ -229,7 +229,7 @@ static void poses_scales(sf_equil *q)
 /* The fold rows kept (poses_rowsel.h): all of them (solver.pose_rows =
  * "all", the default), or a maximal independent set at a generic state
  * ("independent": not valid from the flat state on every sheet, see
- * docs/formulations.md). */
+ * docs/design/model.md). */
 static int select_rows(sf_equil *q, sf_error *err)
 {
     struct sf_peq *z = q->pz;
@@ -348,7 +348,7 @@ long sf_equil_poses_nnz(const sf_equil *q) { return q->pz ? q->pz->T.nnz : 0; }
 
 /* ------------------------------------------------------------ callbacks */
 
-/* The stated limit of Rbar_f = I (docs/formulations.md): a face turns by
+/* The stated limit of Rbar_f = I (docs/design/model.md): a face turns by
  * less than 2 pi from the flat sheet (exp is singular on |phi| = 2 pi);
  * a state beyond 1.9 pi is refused as a failed evaluation. */
 static int rotations_ok(const sf_equil *q, const double *y)

@@ -18,7 +18,7 @@
  * that plane whose two null lines are the vertex's two rigid modes (for a
  * flat-foldable vertex the classical ones: one pair of opposite creases
  * equal, tan(rho_minor / 2) proportional to tan(rho_major / 2);
- * docs/crease-limit.md).  Each vertex takes the mode whose signs agree
+ * docs/design/crease-limit.md).  Each vertex takes the mode whose signs agree
  * best with the driving's, s = sgn(-b) (sgn u on folds b leaves alone):
  * largest |s . r| / |r|.  The first-order response u is not used for
  * that: on the 4x4 Miura sheet its signs already follow the branch with

@@ -85,7 +85,7 @@ int sf_mobility_first_order(const sf_model *m, const double *q, int *first, sf_e
     cholmod_sparse *R = NULL;
     SuiteSparse_long *E = NULL;
     /* no right-hand side: SuiteSparseQR_C_QR would factorise [A, I] to form
-     * an unused Q (docs/stability.md, "The QR of C^T alone") */
+     * an unused Q (docs/guides/stability.md, "The QR of C^T alone") */
     SuiteSparse_long r = SuiteSparseQR_C(SPQR_ORDERING_DEFAULT, tol, 0, 0, A, NULL, NULL, NULL,
                                          NULL, &R, &E, NULL, NULL, NULL, &cc);
     if (R) cholmod_l_free_sparse(&R, &cc);

@@ -100,7 +100,7 @@ static long independent_columns(cholmod_sparse *A, double longest, double rtol, 
     cholmod_sparse *R = NULL;
     SuiteSparse_long *E = NULL;
     /* no right-hand side: SuiteSparseQR_C_QR would factorise [A, I] to form
-     * an unused Q (docs/stability.md, "The QR of C^T alone") */
+     * an unused Q (docs/guides/stability.md, "The QR of C^T alone") */
     SuiteSparse_long rank = SuiteSparseQR_C(SPQR_ORDERING_DEFAULT, rtol * longest, 0, 0, A, NULL,
                                             NULL, NULL, NULL, &R, &E, NULL, NULL, NULL, cc);
     if (R) cholmod_l_free_sparse(&R, cc);

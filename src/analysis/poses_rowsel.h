@@ -1,5 +1,5 @@
 /* poses_rowsel.h - which of the pose formulation's fold rows to keep
- * (docs/formulations.md, "Redundant rows removed"): the 6 N fold rows have
+ * (docs/design/model.md, "Redundant rows removed"): the 6 N fold rows have
  * left null vectors at every state (the self-stress identities of the
  * faces ringed by folds, and with K = 1 more rows than unknowns), which
  * make the KKT matrix singular.  A maximal independent set of rows is

@@ -1,6 +1,6 @@
 /* reactions.h - forces of the supports and of a prescribed displacement
  * (MODEL.md 5: their multipliers are the reactions), collected along a
- * path and written as DIR/reactions.tsv (docs/output-format.md).
+ * path and written as DIR/reactions.tsv (docs/reference/output-files.md).
  *
  * Sign convention: a reaction is the force [N] that the support exerts on
  * the sheet, along the global axis of the prescribed component, i.e.

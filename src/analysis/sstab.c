@@ -394,7 +394,7 @@ static void attempt_plan(const sf_sstab *s, int a, int morse, double sigma0, int
     int base = 2 * nev + 1 > 20 ? 2 * nev + 1 : 20;
     int c = base << (a < 3 ? a : 3);
     /* bounded (one attempt, BOUNDED_ITERS restarts): a small tangent space
-     * whole, as its eigenvalue cluster at a flat sheet needs (docs/stability.md,
+     * whole, as its eigenvalue cluster at a flat sheet needs (docs/guides/stability.md,
      * "Cost of the inertia method") */
     if (s->whole && dim <= BOUNDED_FULL) c = dim;
     if (c > dim) c = dim;     /* the operator's rank (Krylov space beyond: zeros) */
@@ -561,7 +561,7 @@ static int cmp_weak(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* The weak rows of K (docs/stability.md, "Weak rows"): the kept rows at
+/* The weak rows of K (docs/guides/stability.md, "Weak rows"): the kept rows at
  * null pivots of the last factorisation of K, and the `want` kept rows of
  * smallest Heath residual among those below WEAK_MAX.  Marks them in
  * weak[mk]; returns their number, or -1 on lack of memory.  *ncand: the
@@ -691,7 +691,7 @@ static int eval_point(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *
         if (!rc && i == 0 && nnull > 0 && after.analyses == before.analyses) {
             /* null pivots with an analysis made at an earlier point: MUMPS's
              * analysis depends on the values, and a stale one can report
-             * null pivots a fresh one does not (docs/stability.md).  A
+             * null pivots a fresh one does not (docs/guides/stability.md).  A
              * follower analyses afresh on its own instance, not the lead's */
             s->kf = s->cur = s->f;
             sf_ldlt_forget_analysis(s->f);
@@ -717,7 +717,7 @@ static int eval_point(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *
     R->morse = neg - R->rank;
     s->rank_k = s->mk;
     s->dim_k = R->dim;
-    /* Weak rows (docs/stability.md, "Weak rows"): a kept row within
+    /* Weak rows (docs/guides/stability.md, "Weak rows"): a kept row within
      * WEAK_ROW of the span of the others pairs in K with the direction only
      * it constrains, [h, d; d, 0], whose small eigenvalue -d^2/h can be at
      * round-off: its pivot may come out null or of either sign.  The index
@@ -737,7 +737,7 @@ static int eval_point(sf_sstab *s, const sf_csc *HL, const sf_csc *C, sf_error *
          * depends on the values it sees (sym = 2: scaling, matching, the
          * pairs of its ordering), and those of K_w change in kind with the
          * rows taken out; reused from another set of weak rows it flagged
-         * null pivots that a fresh one does not (docs/stability.md).  The
+         * null pivots that a fresh one does not (docs/guides/stability.md).  The
          * MUMPS instance stays: a new one started from the default
          * workspace and repeated most K_w factorisations with more
          * (ICNTL(14), ldlt.c; 116 of 300 factorisations on the 12 x 12

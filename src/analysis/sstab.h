@@ -10,7 +10,7 @@
  * Output: the Morse index of H_c = Z^T HL Z (Z a basis of null(C)), the
  * nev smallest eigenvalues of H_c, and a status with its reason.
  *
- * Method (see docs/stability.md):
+ * Method (see docs/guides/stability.md):
  *  - rows of C are scaled to unit length; rows shorter than 1e-13 times the
  *    longest are dropped (zero to round-off, e.g. second-order loop rows
  *    at the flat state);

@@ -101,7 +101,7 @@ void sf_rowbasis_counts(const sf_rowbasis *b, int *qr, int *reused, int *checks)
  * them in ins[] and sets ns; ns = -1 when SPQR failed.
  * SuiteSparseQR_C with no right-hand side, not SuiteSparseQR_C_QR: the
  * latter factorises [C^T, I] to form Q even when Q is not asked for,
- * 5 to 10 times the work on the Miura paths (docs/stability.md, "The
+ * 5 to 10 times the work on the Miura paths (docs/guides/stability.md, "The
  * QR of C^T alone"). */
 static int qr_rows(sf_rowbasis *b, const sf_csc *C, const double *rs, const int *rnew, int mnz,
                    sf_error *err)

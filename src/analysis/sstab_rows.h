@@ -1,12 +1,12 @@
 /* sstab_rows.h - a maximal set of independent constraint rows for sstab.c,
  * decided by SuiteSparseQR and reused from point to point while a check
- * shows that it still spans the rows (docs/stability.md, "Rank of C").
+ * shows that it still spans the rows (docs/guides/stability.md, "Rank of C").
  *
  * The rank-revealing QR of C^T (Heath's method) cost far more than the
  * LDL^T of the KKT matrix on large sheets (95 % of an evaluation on a
  * 16 x 16 Miura) while it factorised [C^T, I]; of C^T alone (2026-11-27)
  * it costs less than the check below on the 12 x 12 Miura path, where no
- * check passes (docs/stability.md, "The QR of C^T alone").  The
+ * check passes (docs/guides/stability.md, "The QR of C^T alone").  The
  * independent rows change only at special states, so the set S of the
  * last QR is kept and checked at the next point:
  *  1. every row of S is nonzero and P = [I, Cs^T; Cs, 0] (Cs: the scaled
@@ -61,7 +61,7 @@ const double *sf_rowbasis_resid(const sf_rowbasis *b);
  * check on nearly dependent rows) is not checked for the next 7 points
  * after a failed check (15, 31 after 2, 3 or more failures in a row); any
  * other set, after f >= 2 failures in a row, for the next 2^(f-1) - 1
- * points, at most 7 (docs/stability.md, "Checks left out"). */
+ * points, at most 7 (docs/guides/stability.md, "Checks left out"). */
 void sf_rowbasis_counts(const sf_rowbasis *b, int *qr, int *reused, int *checks);
 
 /* SuiteSparseQR's count of floating-point operations, summed over the

@@ -57,7 +57,7 @@ extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, 
  * that the rows block at second order and leave H0 on the others, so the
  * bound must be generous: on the 2x2 waterbomb tessellation CERT_RHO =
  * 1e4 left 3 of its 37 points uncertified, 3e4 two and 1e5 none
- * (docs/stability.md); 1e6 keeps a factor 10 in reserve.
+ * (docs/guides/stability.md); 1e6 keeps a factor 10 in reserve.
  * Round-off grows with the self-stress: a certificate must clear the
  * margin plus a bound on LAPACK's error at its mu (cert_roundoff, 1e-6 at
  * the largest self-stress of that path, against an eigenvalue of 0.0145). */

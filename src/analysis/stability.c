@@ -288,7 +288,7 @@ static int eval_arpack(sf_stab *st, sf_error *err)
     return SF_OK;
 }
 
-/* The certificate of the inertia method (docs/stability.md, "Stable by
+/* The certificate of the inertia method (docs/guides/stability.md, "Stable by
  * the corrector's matrix").  The corrector's Jacobian at the point is
  * Jy = [HL C^T; C -E], every constraint row kept and E > 0 the diagonal
  * regularisation of the multipliers.  By the Haynsworth inertia formula

@@ -25,7 +25,7 @@
  *    LDL^T of the corrector's own Jacobian [HL C^T; C -E] at the point,
  *    which proves the point stable (Morse index 0, no eigenvalues) when it
  *    has exactly as many negative pivots as constraint rows and no null
- *    one (stability.c, corrector_certificate; docs/stability.md, "Stable
+ *    one (stability.c, corrector_certificate; docs/guides/stability.md, "Stable
  *    by the corrector's matrix"); otherwise, and in fold coordinates, the
  *    MUMPS factorisation of K(0) above, stability and Morse index from its
  *    inertia (Sylvester: neg(K(0)) = morse + rank C); the eigenvalues
@@ -51,7 +51,7 @@
 
 enum { SF_EIG_AUTO = 0, SF_EIG_DENSE = 1, SF_EIG_ARPACK = 2, SF_EIG_INERTIA = 3 };
 /* Dense up to 200 coordinates, the MUMPS inertia above.  Miura-ori
- * actuation paths in poses with exact closure (docs/stability.md, "Where
+ * actuation paths in poses with exact closure (docs/guides/stability.md, "Where
  * auto switches"): the dense method costs 2 ms per point at 138
  * coordinates, 50 ms at 330 and 1.6 s at 954, the inertia 5.5 ms at 330
  * and 45 ms at 954, with the same stable and morse columns.  ARPACK is
@@ -114,7 +114,7 @@ int sf_stab_init(sf_stab *st, const sf_equil *q, int method, int nev, sf_error *
 /* The study's analysis.arpack_maxiter and analysis.arpack_attempts into
  * st (before the first eval).  An absent arpack_maxiter stays 0, sstab.h's
  * default: 1000 restarts per ARPACK attempt, and 10 for the one bounded
- * attempt of the inertia method (docs/stability.md). */
+ * attempt of the inertia method (docs/guides/stability.md). */
 int sf_stab_read_keys(sf_stab *st, const sf_study *s, sf_error *err);
 void sf_stab_free(sf_stab *st);
 
@@ -133,7 +133,7 @@ int sf_stab_eval(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *
  * self-stress mu of the rows (null C^T, at most 64 of them) with
  * Z^T HL(lambda + mu) Z positive definite, the second-order sufficient
  * condition; when found, res says stable, morse 0, certified 1 or 2, no
- * eigenvalues (stab_cert.c; docs/stability.md).  Called by
+ * eigenvalues (stab_cert.c; docs/guides/stability.md).  Called by
  * sf_stab_eval. */
 int sf_stab_certify(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *err);
 

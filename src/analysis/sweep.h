@@ -18,7 +18,7 @@
  * (DIR/variants.tsv) takes the finished variants over: resume.
  *
  * No MPI here: the serial command (src/cli/sweep.c) and the MPI dispatcher
- * (src/cli/sweep_mpi.c) drive these functions.  docs/sweep.md.
+ * (src/cli/sweep_mpi.c) drive these functions.  docs/guides/sweeps.md.
  */
 #ifndef SF_SWEEP_H
 #define SF_SWEEP_H

@@ -1,5 +1,5 @@
 /* validity.h - is a computed shape physically possible?  Two checks of a
- * state q (docs/output-format.md, "Physical validity"):
+ * state q (docs/reference/output-files.md, "Physical validity"):
  *
  *  - folds beyond +-180 degrees: |theta_i| > pi (by more than
  *    SF_VALIDITY_ANGLE_TOL), the fold turned past flat onto itself;

@@ -240,7 +240,7 @@ static int start_by_multipliers(run_ctx *r, double *y0, double start, double end
 }
 
 /* The defaults of solver.formulation, analysis.flat_start and
- * analysis.step_norm, "auto" (docs/study-format.md, "Large sheets"): by
+ * analysis.step_norm, "auto" (docs/reference/study-keys.md, "Large sheets"): by
  * the size of the problem in fold coordinates (eq->n, before any switch to
  * poses).  Above solver.auto_unknowns, on a sheet with loops (exact
  * closure, interior vertices), with none of the three keys set and no

@@ -1,4 +1,4 @@
-/* start.h - leaving the flat sheet with exact loop closure (docs/start.md).
+/* start.h - leaving the flat sheet with exact loop closure (docs/design/start.md).
  *
  * At the flat state the loop rows that turn about the sheet's normal or
  * translate in its plane have no gradient: the flat state of a foldable
