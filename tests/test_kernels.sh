@@ -62,24 +62,26 @@ cmp_runs() {
     END { if (mis == "") mis = "-"; printf "%d/%d %.2g %.2g %s\n", na, nb, w, wl, mis }' "$1" "$2"
 }
 
-for s in $studies; do
-    ref=
+# across NAME LIMIT CFG [--set ...]: CFG run under the environment's
+# kernel and each other one, compared with the first run; one TAP line.
+# LIMIT bounds the states on every row, 1e-8 bounds each branch's last row.
+across() {
+    name=$1; lim=$2; cfg=$3; shift 3
+    ref=; bad=; worst=0; worstl=0
     for k in ${envk:-default} $others; do
         if [ "$k" = default ]; then
-            env -u OPENBLAS_CORETYPE "$bin" run "$src/studies/$s.cfg" -q -o "$tmp/$s-$k" >/dev/null 2>&1
+            env -u OPENBLAS_CORETYPE "$bin" run "$cfg" -q -o "$tmp/$name-$k" "$@" >/dev/null 2>&1
         else
-            OPENBLAS_CORETYPE=$k "$bin" run "$src/studies/$s.cfg" -q -o "$tmp/$s-$k" >/dev/null 2>&1
+            OPENBLAS_CORETYPE=$k "$bin" run "$cfg" -q -o "$tmp/$name-$k" "$@" >/dev/null 2>&1
         fi
-        echo $? >"$tmp/$s-$k.rc"
-        [ -z "$ref" ] && ref=$k
-    done
-    bad=; worst=0; worstl=0
-    for k in $others; do
-        [ "$(cat "$tmp/$s-$k.rc")" = "$(cat "$tmp/$s-$ref.rc")" ] || bad="$bad; exit $(cat "$tmp/$s-$ref.rc") under $ref, $(cat "$tmp/$s-$k.rc") under $k"
-        if [ -f "$tmp/$s-$ref/branch.tsv" ] && [ -f "$tmp/$s-$k/branch.tsv" ]; then
-            set -- $(cmp_runs "$tmp/$s-$ref/branch.tsv" "$tmp/$s-$k/branch.tsv")
-            rows=$1; w=$2; wl=$3; shift 3; mis=$*
-            case $rows in */*) [ "${rows%/*}" = "${rows#*/}" ] || bad="$bad; points $rows under $ref/$k";; esac
+        rc=$?
+        if [ -z "$ref" ]; then ref=$k; rc0=$rc; continue; fi
+        [ $rc = $rc0 ] || bad="$bad; exit $rc0 under $ref, $rc under $k"
+        if [ -f "$tmp/$name-$ref/branch.tsv" ] && [ -f "$tmp/$name-$k/branch.tsv" ]; then
+            read -r rows w wl mis <<CMP
+$(cmp_runs "$tmp/$name-$ref/branch.tsv" "$tmp/$name-$k/branch.tsv")
+CMP
+            [ "${rows%/*}" = "${rows#*/}" ] || bad="$bad; points $rows under $ref/$k"
             [ "$mis" = "-" ] || bad="$bad; $mis under $ref/$k"
             worst=$(awk -v a="$worst" -v b="$w" 'BEGIN {print (b > a ? b : a)}')
             worstl=$(awk -v a="$worstl" -v b="$wl" 'BEGIN {print (b > a ? b : a)}')
@@ -87,36 +89,21 @@ for s in $studies; do
             bad="$bad; no branch.tsv under $ref or $k"
         fi
     done
-    lim=1e-8; [ "$s" = square4-inplane ] && lim=1e-6
     if [ -z "$bad" ] && awk -v w="$worst" -v wl="$worstl" -v l="$lim" 'BEGIN {exit !(w <= l && wl <= 1e-8)}'; then
-        ok "$s under ${envk:-default}$others: same exit and points, verdicts equal, states to $worst (every row) and $worstl (each branch's last point)"
+        ok "$name under ${envk:-default}$others: same exit and points, verdicts equal, states to $worst (every row) and $worstl (each branch's last point)"
     else
-        nok "$s under ${envk:-default}$others:${bad:- states differ by $worst (every row), $worstl (last points)}"
+        nok "$name under ${envk:-default}$others:${bad:- states differ by $worst (every row), $worstl (last points)}"
     fi
+}
+
+for s in $studies; do
+    lim=1e-8; [ "$s" = square4-inplane ] && lim=1e-6
+    across "$s" $lim "$src/studies/$s.cfg"
 done
 # the issue's case: the 2x2 Miura actuation of bench/miura-study.sh, whose
 # symmetric start has two mirror branches of equal energy
 sh "$src/bench/miura-study.sh" 2 >"$tmp/m2.cfg"
-bad=; worst=0; ref=
-for k in ${envk:-default} $others; do
-    if [ "$k" = default ]; then
-        env -u OPENBLAS_CORETYPE "$bin" run "$tmp/m2.cfg" -q -o "$tmp/m2-$k" --set analysis.end=1 >/dev/null 2>&1
-    else
-        OPENBLAS_CORETYPE=$k "$bin" run "$tmp/m2.cfg" -q -o "$tmp/m2-$k" --set analysis.end=1 >/dev/null 2>&1
-    fi
-    echo $? >"$tmp/m2-$k.rc"
-    [ -z "$ref" ] && ref=$k && continue
-    [ "$(cat "$tmp/m2-$k.rc")" = "$(cat "$tmp/m2-$ref.rc")" ] || bad="$bad; exit differs under $k"
-    set -- $(cmp_runs "$tmp/m2-$ref/branch.tsv" "$tmp/m2-$k/branch.tsv")
-    [ "${1%/*}" = "${1#*/}" ] || bad="$bad; points $1 under $k"
-    [ "$4" = "-" ] || bad="$bad; a verdict differs under $k"
-    worst=$(awk -v a="$worst" -v b="$2" 'BEGIN {print (b > a ? b : a)}')
-done
-if [ -z "$bad" ] && awk -v w="$worst" 'BEGIN {exit !(w <= 1e-8)}'; then
-    ok "miura 2x2 actuation (symmetric start) under ${envk:-default}$others: the same mirror branch, states to $worst"
-else
-    nok "miura 2x2 actuation under ${envk:-default}$others:${bad:- states differ by $worst}"
-fi
+across "miura-2x2-actuation" 1e-8 "$tmp/m2.cfg" --set analysis.end=1
 # the numerical tests again, under one other kernel
 second=Prescott
 [ "$envk" = Prescott ] && second=Haswell

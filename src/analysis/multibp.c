@@ -224,10 +224,8 @@ static int dir_before(const sf_mbp *res, const double *y0, int a, int b)
     const double *ya = res->y + (size_t)a * n, *yb = res->y + (size_t)b * n;
     double big = 0.0;
     for (int j = 0; j < n; j++) big = fmax(big, fmax(fabs(ya[j] - y0[j]), fabs(yb[j] - y0[j])));
-    for (int j = 0; j < n; j++) {
-        double da = ya[j] - y0[j], db = yb[j] - y0[j];
-        if (fabs(da - db) > MBP_SAME_RTOL * big) return da < db;
-    }
+    for (int j = 0; j < n; j++)
+        if (fabs(ya[j] - yb[j]) > MBP_SAME_RTOL * big) return ya[j] < yb[j];
     return 0;
 }
 
