@@ -278,13 +278,13 @@ static int choose_keys(run_ctx *r, const char **form, const char **fs, const cha
                       : eq->nloop == 0 ? "the sheet has no interior vertex (no loop rows: the fold "
                                          "formulation is the smaller one)"
                       : !af ? "solver.formulation is set"
-                      : !as ? "analysis.flat_start is set"
+                      : !as && strcmp(*fs, "multipliers") != 0 ? "analysis.flat_start is set"
                       : !an ? "analysis.step_norm is set"
                             : NULL;
     int big = large && !why;
     r->auto_small = af && as && an && !why && !large;   /* run.c may retry in poses */
     if (af) *form = big ? "poses" : "folds";
-    if (as) *fs = big ? "sparse" : "limit";
+    if (as) *fs = big ? "sparse" : "limit";   /* "multipliers" works in either formulation */
     if (an) *norm = big ? "rms" : "sum";
     if ((af && sf_study_set_string(s, "solver.formulation", *form, err)) ||
         (as && sf_study_set_string(s, "analysis.flat_start", *fs, err)) ||

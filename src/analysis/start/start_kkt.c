@@ -30,7 +30,8 @@ int fs_kkt_init(fs_kkt *k, sf_equil *q, sf_error *err)
     k->n = q->n;
     k->nx = q->nq;
     k->m = q->ncon;
-    k->dense = q->n <= FS_DENSE_MAX;
+    /* the fold formulation's Jacobian is dense at every size */
+    k->dense = !q->pz || q->n <= FS_DENSE_MAX;
     k->S = malloc(sizeof(double) * ((size_t)k->n + 1));
     k->Fp = calloc((size_t)k->n + 1, sizeof(double));
     if (!k->S || !k->Fp) return sf_fail(err, SF_ENOMEM, "out of memory");
