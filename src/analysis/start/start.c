@@ -354,10 +354,6 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
     if (!rc && (!yb || !best || !pin || !c.row)) rc = sf_fail(err, SF_ENOMEM, "out of memory");
     if (!rc) rc = row_weights(&c, err);
     /* the driving's control: dF/dp at the flat state */
-    if (getenv("FS_ROTW") && !q->anchor_w) {
-        q->anchor_w = malloc(sizeof(double) * ((size_t)q->ncon + 1));
-        for (int r = 0; r < q->ncon; r++) q->anchor_w[r] = (r < q->nloop && r % 6 < 3) ? atof(getenv("FS_ROTW")) : 1.0;
-    }
     if (!rc) {
         q->eps_anchor = 0.0;
         rc = fs_kkt_eval(&c.k, y0, p0, err);
