@@ -16,7 +16,8 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 mk=$build/Makefile
 val() { sed -n "s/^$1 = //p" "$mk" | head -1; }
-inc="-I$src/src -I$src/src/pattern -I$src/src/model -I$src/src/analysis -I$src/src/io -I$src/src/cli -I$src/continuation"
+inc="-I$src/src -I$src/src/pattern -I$src/src/model -I$src/src/io -I$src/src/cli -I$src/continuation"
+for d in "$src"/src/analysis/*/; do inc="$inc -I$d"; done   # one folder per concern
 # shellcheck disable=SC2046
 cc -std=c11 -D_DEFAULT_SOURCE -O2 $inc $(val CPPFLAGS) $(val ARPACK_CFLAGS) -o "$out/stab_cost" \
     "$src/bench/stab_cost.c" "$build/src/libsmoothfold.a" "$build/continuation/libcont.a" \

@@ -1,6 +1,6 @@
 #!/bin/sh
 # bench/validity-cost.sh BUILDDIR [M...] - CPU seconds of one
-# physical-validity check (src/analysis/validity.h) on Miura-ori M x M
+# physical-validity check (src/analysis/validity/validity.h) on Miura-ori M x M
 # cells (bench/miura-study.sh M actuation), every fold at 0.3 rad: the
 # R*-tree's pairs, and every pair of parts up to 16 x 16 (brute force,
 # the same answer); then the exponent of a least-squares fit of log time
@@ -15,7 +15,8 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 mk=$build/Makefile
 val() { sed -n "s/^$1 = //p" "$mk" | head -1; }
-inc="-I$src/src -I$src/src/pattern -I$src/src/model -I$src/src/analysis -I$src/src/io -I$src/continuation"
+inc="-I$src/src -I$src/src/pattern -I$src/src/model -I$src/src/io -I$src/continuation"
+for d in "$src"/src/analysis/*/; do inc="$inc -I$d"; done   # one folder per concern
 # shellcheck disable=SC2046
 cc -std=c11 -D_DEFAULT_SOURCE -O2 $inc $(val CPPFLAGS) -o "$out/validity_cost" \
     "$src/bench/validity_cost.c" "$build/src/libsmoothfold.a" "$build/continuation/libcont.a" \

@@ -1,5 +1,5 @@
 /* validity_cost.c - CPU time of one physical-validity check
- * (src/analysis/validity.h) of a study's sheet: every fold at 0.3 rad
+ * (src/analysis/validity/validity.h) of a study's sheet: every fold at 0.3 rad
  * with the sign of its assignment or rest angle (a gently folded sheet,
  * loops nearly closed: no crossings), the tree's pairs and, below a
  * size, every pair of parts (brute force).  Usage:

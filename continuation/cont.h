@@ -451,7 +451,7 @@ int cont_set_corrector(cont_solver *s, int kind);
  * MUMPS, block elimination) its inertia is delivered with the point
  * (cont_point.jy_inertia, jy_neg, jy_null): one factorisation a point
  * serves the tangent, the determinant sign and a caller's stability test
- * (src/analysis/stability.c).  Default 0. */
+ * (src/analysis/stability/stability.c).  Default 0. */
 int cont_set_point_inertia(cont_solver *s, int on);
 int cont_get_corrector(const cont_solver *s);
 /* the fixed-p solves of cont_solve_fixed / cont_start: default 50 iterations,

@@ -49,7 +49,7 @@ int cont_mumps_det(SUNLinearSolver S, int *sign, double *logabs);
 
 /* glibc's mmap and trim thresholds set to 1 GB for the process (once;
  * nothing elsewhere): MUMPS's workspace is then reused on the heap.
- * Called by the two solvers above and by src/analysis/ldlt.c. */
+ * Called by the two solvers above and by src/analysis/linalg/ldlt.c. */
 void cont_mumps_keep_heap(void);
 
 /* SCOTCH, MUMPS's ordering of large matrices in a build without METIS,

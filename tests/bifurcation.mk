@@ -1,4 +1,4 @@
-# the bifurcation bookkeeping (src/analysis/bifurcation.h) on its own:
+# the bifurcation bookkeeping (src/analysis/bifurcation/bifurcation.h) on its own:
 # crossings located against closed forms and bisection, branch switching
 check_PROGRAMS += tests/test_bifurcation
 TESTS += tests/test_bifurcation

@@ -1,4 +1,4 @@
-# tests/dynamics.mk: folding trajectories (src/analysis/dynamics.c) and the dynamics
+# tests/dynamics.mk: folding trajectories (src/analysis/dynamics/dynamics.c) and the dynamics
 # run command
 check_PROGRAMS += tests/test_dynamics
 TESTS += tests/test_dynamics

@@ -44,7 +44,7 @@ include tests/multibp.mk
 include tests/creaselimit.mk
 include tests/validity.mk
 include tests/docs.mk
-# sweeps, serially and under mpirun (src/analysis/sweep.h, docs/guides/sweeps.md)
+# sweeps, serially and under mpirun (src/analysis/sweep/sweep.h, docs/guides/sweeps.md)
 check_PROGRAMS += tests/test_sweep_plan
 TESTS += tests/test_sweep_plan tests/test_sweep.sh
 tests_test_sweep_plan_SOURCES = tests/test_sweep_plan.c

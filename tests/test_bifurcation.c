@@ -1,4 +1,4 @@
-/* test_bifurcation.c - the bifurcation bookkeeping (src/analysis/bifurcation.h)
+/* test_bifurcation.c - the bifurcation bookkeeping (src/analysis/bifurcation/bifurcation.h)
  * on its own, without the run command, against independent values:
  *  - Morse-index bounds at located LP/BP points (constructed spectra);
  *  - fold1-buckle: the eigenvalue crossing of the flat state located by

@@ -1,6 +1,6 @@
 #!/bin/sh
 # test_compare.sh - the reference-comparison feature of `smoothfold run`
-# (study key `references`, src/analysis/compare*.c) through the program:
+# (study key `references`, src/analysis/compare/compare*.c) through the program:
 #   - broken reference files and keys: exit status, one line naming the
 #     file (or study key) and line, and no output written;
 #   - a declared tolerance exceeded: exit 6, every file written, FAIL in

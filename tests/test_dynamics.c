@@ -1,4 +1,4 @@
-/* test_dynamics.c - folding trajectories (src/analysis/dynamics.c, MODEL.md 7).
+/* test_dynamics.c - folding trajectories (src/analysis/dynamics/dynamics.c, MODEL.md 7).
  *
  *  - piecewise-linear histories: values and slopes at, between and beyond
  *    their points;

@@ -454,7 +454,7 @@ static void test_displacement_row(void **state)
  * 1e-10, D the row scales").  To do that the same way for every row and in
  * any units, it must be eps in the scaling the Newton solver works in
  * (unknowns times yscale, rows times fscale): fscale_r A_rr / yscale_r =
- * -eps.  src/analysis/equilibrium.c sets A_rr = -eps / (yscale_r fscale_r), which
+ * -eps.  src/analysis/equilibrium/equilibrium.c sets A_rr = -eps / (yscale_r fscale_r), which
  * in that scaling is -eps kref^2 (rotation rows) and -eps kref^2 / lref^2
  * (translation rows): dimensionally inverted, so it depends on the units
  * and the stiffness of the study (waterbomb2: 1.7e-13 .. 2.5e-9; with a

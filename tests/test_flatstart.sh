@@ -1,6 +1,6 @@
 #!/bin/sh
 # test_flatstart.sh - exact loop closure starting at the flat state
-# (src/analysis/flatcone.c, docs/flatstart.md): the branch the driving
+# (src/analysis/start/flatcone.c, docs/flatstart.md): the branch the driving
 # selects on the tangent cone, for each generated pattern and square4;
 # symmetric driving of a symmetric sheet gives a symmetric state; a start
 # that finds no branch ends with a diagnosis, not a stall at ds_min.

@@ -1,6 +1,6 @@
 #!/bin/sh
 # test_flatstart_cost.sh - the cost of the sparse flat start's limit
-# problem (src/analysis/flatlimit_sparse.c, docs/flatstart.md "Cost of
+# problem (src/analysis/start/flatlimit_sparse.c, docs/flatstart.md "Cost of
 # the sparse start"): where the full KKT matrix is indefinite, Newton
 # steps with the Gauss-Newton matrix of the penalty instead of a shifted
 # one.  On the 4x4 Miura sheet under gravity and a tip load

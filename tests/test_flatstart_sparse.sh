@@ -1,6 +1,6 @@
 #!/bin/sh
 # test_flatstart_sparse.sh - the sparse start at the flat state for face
-# poses (analysis.flat_start = "sparse", src/analysis/flatstart_sparse.c,
+# poses (analysis.flat_start = "sparse", src/analysis/start/flatstart_sparse.c,
 # docs/flatstart.md): on the 2x2 and 3x3 Miura-ori of bench/miura-study.sh
 # (actuation of both groups) it follows a branch of the dense
 # tangent-cone start of the fold formulation (fold angles and probe at the

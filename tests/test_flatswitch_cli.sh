@@ -1,6 +1,6 @@
 #!/bin/sh
 # test_flatswitch_cli.sh - every branch at the flat state with exact closure
-# (src/analysis/flatswitch.c, docs/guides/stability.md) on a waterbomb base
+# (src/analysis/start/flatswitch.c, docs/guides/stability.md) on a waterbomb base
 # (degree 6) with all folds driven: analysis.branch_depth = 1 follows the
 # isolated solutions of the reduced second-order equations besides the path;
 # every row of every branch is an equilibrium (residual <= 1e-9) whose Morse

@@ -2,10 +2,10 @@
  * state, and the mobility left by the loop constraints (MODEL.md 4, 6):
  *  - cont_set_weights: arclength in the weighted norm on a linear problem
  *    whose step lengths are known in closed form;
- *  - the limit start (src/analysis/flatstart.c) of waterbomb2: its guess is off the
+ *  - the limit start (src/analysis/start/flatstart.c) of waterbomb2: its guess is off the
  *    exact solution by O(dp^2), and the multipliers of the in-plane rows
  *    tend to finite, non-zero values as dp -> 0;
- *  - mobility (src/analysis/mobility.c): a degree-4 vertex with K = 0 and finite
+ *  - mobility (src/analysis/stability/mobility.c): a degree-4 vertex with K = 0 and finite
  *    widths is locked (named), the same vertex with K = 1, or with its four
  *    folds on two straight lines, moves; waterbomb2 and square4 move, with
  *    the degrees of freedom that counting gives at a generic folded state;

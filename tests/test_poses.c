@@ -1,5 +1,5 @@
 /* test_poses.c - the face-pose formulation (MODEL.md 9, src/model/poses.c,
- * src/analysis/equilibrium_poses.c):
+ * src/analysis/equilibrium/equilibrium_poses.c):
  * - rotation vectors: R = exp([phi]x) against sf_rotation, dR and d2R
  *   against central differences (series and closed-form ranges);
  * - every derivative of the pose problem against central differences at

@@ -1,5 +1,5 @@
 /* test_rowsel.c - the pose formulation's redundant fold rows removed
- * (src/analysis/poses_rowsel.c, solver.pose_rows; docs/design/model.md):
+ * (src/analysis/equilibrium/poses_rowsel.c, solver.pose_rows; docs/design/model.md):
  * - at a generic state of Miura-ori 2x2 and 3x3 cells (K = 2 and K = 3
  *   modes: self-stress identities), the number of rows kept equals the
  *   rank of the full constraint Jacobian C, counted here from a dense

@@ -1,5 +1,5 @@
 /* test_stab_cert.c - stability where the loop rows are redundant and do not
- * keep their rank (src/analysis/stab_cert.c): the 2x2 waterbomb
+ * keep their rank (src/analysis/stability/stab_cert.c): the 2x2 waterbomb
  * tessellation with both fold groups driven, fold coordinates, exact
  * closure.  Its path carries a self-stress of the loop rows (from the
  * flat start), and under most BLAS kernels Z^T HL Z at those multipliers

@@ -1,4 +1,4 @@
-/* test_sweep_plan.c - the plan of a sweep (src/analysis/sweep.h): values
+/* test_sweep_plan.c - the plan of a sweep (src/analysis/sweep/sweep.h): values
  * of --vary specs, product order, list mode, key paths against the study
  * schema, and the messages of bad specs.  The running side is tested
  * through the program by test_sweep.sh.

@@ -1,4 +1,4 @@
-/* test_validity.c - the physical-validity checks (src/analysis/validity.h,
+/* test_validity.c - the physical-validity checks (src/analysis/validity/validity.h,
  * tritri.h) against independent answers:
  *  - triangle pairs whose meeting set and material separation are known
  *    by hand (crossing, apart, a common edge, coplanar overlap, a point);

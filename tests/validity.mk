@@ -1,4 +1,4 @@
-# tests/validity.mk: the physical-validity checks (src/analysis/validity.h)
+# tests/validity.mk: the physical-validity checks (src/analysis/validity/validity.h)
 check_PROGRAMS += tests/test_validity
 TESTS += tests/test_validity
 tests_test_validity_SOURCES = tests/test_validity.c

@@ -31,7 +31,7 @@ static void print_dof(int dof, int first, double gap, double radius)
 }
 
 /* The one line of the mobility verdict of the whole sheet, from the
- * mobility API (src/analysis/mobility.h): foldable, locked, or undecided.
+ * mobility API (src/analysis/stability/mobility.h): foldable, locked, or undecided.
  * The only place `check` turns the analysis into a verdict, so that a new
  * verdict (its certificate) replaces this function alone. */
 static void print_mobility_verdict(const sf_scene *sc, const sf_mobility *mb)
@@ -74,7 +74,7 @@ static void print_vertex_group(const sf_scene *sc, const sf_mobility *mb, int do
     printf("%s\n", n > max ? ", ..." : "");
 }
 
-/* Degrees of freedom left by exact loop closure (src/analysis/mobility.h):
+/* Degrees of freedom left by exact loop closure (src/analysis/stability/mobility.h):
  * the verdict, the vertices that matter (locked, undecided), and with
  * verbose every vertex's own. */
 static int print_mobility(const sf_scene *sc, int verbose, sf_progress *progress, sf_error *err)

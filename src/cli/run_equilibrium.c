@@ -148,7 +148,7 @@ static int start_at_flat(run_ctx *r, double *y0, double start, double end, doubl
      * singular point of loop closure (multipliers of the second-order
      * rows are undetermined there).  Report it, then start the branch
      * one step further from the limit of the branch at the flat state
-     * (src/analysis/flatstart.c; the penalty homotopy as the fallback). */
+     * (src/analysis/start/flatstart.c; the penalty homotopy as the fallback). */
     if (write_flat_point(r, y0, start)) return *ret = err->code, 1;
     double p1 = start + dir * fmin(step, 0.25 * fabs(end - start));
     if (r->seg_end != end) p1 = start + dir * fmin(fabs(p1 - start), 0.25 * fabs(r->seg_end - start));

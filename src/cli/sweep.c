@@ -1,5 +1,5 @@
 /* sweep.c - `smoothfold sweep`: the variants of a study one after another,
- * each in a child process (src/analysis/sweep.h).  Started by an MPI
+ * each in a child process (src/analysis/sweep/sweep.h).  Started by an MPI
  * launcher, it replaces itself by smoothfold-sweep-mpi (sweep_mpi.c): the
  * smoothfold program itself does not link MPI (MUMPS's sequential build
  * brings its own MPI stubs).  docs/guides/sweeps.md. */

@@ -5,7 +5,7 @@
  * process it polls, so it answers the others within a millisecond.
  *
  * Every rank runs a variant the way the serial sweep does (`smoothfold
- * run` in a child process, src/analysis/sweep.h) and sends its sweep.tsv
+ * run` in a child process, src/analysis/sweep/sweep.h) and sends its sweep.tsv
  * row to rank 0, the only writer of DIR/sweep.tsv and the row files; the
  * table is therefore the serial one, row for row, apart from wall_s.
  *

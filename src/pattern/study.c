@@ -210,7 +210,7 @@ static const sf_study_key schema[] = {
     {"references[].columns[].norm", STR,  0,              0, 0,       "max",         "max|rms|end", "-", "which error the tolerance bounds: largest, root mean square, or at the last compared row"},
     {"references[].columns[].tolerance", NUM, POS,        0, 0,       NULL,          NULL, "-", "bound on that error (absent: report only); exceeded, the run exits with status 6"},
 
-    /* smoothfold sweep (src/analysis/sweep.h); `run` ignores the group */
+    /* smoothfold sweep (src/analysis/sweep/sweep.h); `run` ignores the group */
     {"sweep",                      G,     0,              0, 0,       NULL,          NULL, "-", "parameter sweep: the variants `smoothfold sweep` runs (docs/guides/sweeps.md)"},
     {"sweep.vary",                 NAMES, REQ,            0, 0,       NULL,          NULL, "-", "varied keys as for --vary: [\"KEY=V1,V2,...\", \"KEY=START:STOP:N\"]"},
     {"sweep.mode",                 STR,   0,              0, 0,       "product",     "product|list", "-", "every combination of the values, or a list (variant i takes the i-th value of every key)"},

@@ -30,7 +30,7 @@ work=${SF_FUZZ_DIR:-$(mktemp -d)}
 mkdir -p "$work/obj"
 [ -n "$keep" ] || trap 'rm -rf "$work"' EXIT
 # the library sources the targets reach (globs: new files are picked up)
-inc="-I$src/src -I$src/src/pattern -I$src/src/model -I$src/src/analysis -I$src/src/io"
+inc="-I$src/src -I$src/src/pattern -I$src/src/model -I$src/src/io"
 pc=$(pkg-config --cflags libconfig jansson libxml-2.0 2>/dev/null)
 flags="-std=c11 -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -g -O1 -fsanitize=fuzzer-no-link,address,undefined $pc"
 libs="$(pkg-config --libs libconfig jansson libxml-2.0 2>/dev/null || echo -lconfig -ljansson -lxml2) -llapack -lblas -lm"

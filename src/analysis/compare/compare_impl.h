@@ -1,4 +1,4 @@
-/* compare_impl.h - private to the comparison files of src/analysis/
+/* compare_impl.h - private to the comparison files of src/analysis/compare/
  * (compare.c, compare_read.c, compare_eval.c, compare_write.c): the
  * comparison's structures and the functions they share (prefix cm_).  The
  * public face is compare.h.
