@@ -303,7 +303,7 @@ static int reuse_newton(cont_solver *s, double *x, const double *c, const double
  * was.  Not counted by the step control (s->polish_iters), counted in the
  * statistics.  Only at the first level: at a residual floor (smaller
  * weights) the proximal iterations drift along the nearly dependent rows
- * instead (docs/design/model.md, "Exact treatments tried").  Returns the
+ * instead (continuation/README.md, "Larger steps on large sheets").  Returns the
  * plain residual at u (INFINITY if it cannot be evaluated). */
 static double reanchor(cont_solver *s, double *u, const double *c, const double *xa,
                        double sig, int maxit, double fs)

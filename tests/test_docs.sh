@@ -13,10 +13,6 @@ src=${SF_SRCDIR:-$(dirname "$0")/..}
 . "$src/tests/tap.sh"
 bindir=$(cd "$(dirname "$bin")" && pwd)
 docs=$(cd "$src" && { echo README.md; find docs -name '*.md' | sort; })
-# docs/flatstart.md is being replaced by docs/design/start.md (by the lead):
-# until it is gone, a link to the new file is accepted and the old one's
-# length is not counted.
-transition() { [ -f "$src/docs/flatstart.md" ]; }
 
 # --- the commands of the guides -------------------------------------------
 mkdir -p "$tmp/blocks"
@@ -63,7 +59,6 @@ for f in $docs; do
         case $t in *'#'*) anchor=${t#*#};; esac
         if [ -z "$path" ]; then target="$src/$f"; else target="$src/$dir/$path"; fi
         if [ ! -e "$target" ]; then
-            case $target in */design/start.md) transition && continue;; esac
             bad="$bad $f:($t)"; continue
         fi
         if [ -n "$anchor" ] && [ -f "$target" ]; then
@@ -79,7 +74,6 @@ long=""
 n=$(wc -l <"$src/README.md"); [ "$n" -lt 200 ] || long="$long README.md:$n"
 for f in $docs; do
     [ "$f" = README.md ] && continue
-    [ "$f" = docs/flatstart.md ] && transition && continue
     n=$(wc -l <"$src/$f"); [ "$n" -le 500 ] || long="$long $f:$n"
 done
 [ -z "$long" ] && ok "README.md under 200 lines, every doc at most 500" || nok "too long:$long"

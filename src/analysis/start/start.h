@@ -21,7 +21,7 @@
  * fold at the angle and the least energy), and the one on which the
  * driving does the most work per unit of bending energy is followed.
  * Where none closes either, the sheet is reported locked with a
- * certificate (start_lock.c) or undecided. */
+ * certificate (start_cone.c) or undecided. */
 #ifndef SF_START_H
 #define SF_START_H
 
