@@ -42,6 +42,17 @@ do for [t in "pngcairo pdfcairo"] {
     do for [j = 1:nshow] {
         set ylabel sprintf("eig%d [J]", j)
         if (j == 1) { set key top left opaque box samplen 3 } else { unset key }
+        # an eigenvalue constant along the path: a range of 1 % around it
+        # (gnuplot's own autoscale warns about an empty range)
+        set autoscale y
+        lohi = system(sprintf("awk -F'\t' -v c=%d '!/^#/ && NF > 2 && $1 ~ /^[0-9]+$/ && $c != \"\" " . \
+            "{ v = $c + 0; if (n++ == 0 || v < lo) lo = v; if (n == 1 || v > hi) hi = v } " . \
+            "END { printf \"%%.17g %%.17g\", lo, hi }' '%s'", ce1 + j - 1, file))
+        lo = real(word(lohi, 1)); hi = real(word(lohi, 2))
+        if (lo == hi) {
+            d = (lo != 0) ? 0.01 * abs(lo) : 1
+            set yrange [lo - d:hi + d]
+        }
         plot for [b = 0:nb-1] file index b using (column(cp)):(ev(ce1 + j - 1)) with linespoints lw 1.5 pt 7 ps 0.35 lc b+1 \
              title sprintf("branch %d", b+1)
     }
