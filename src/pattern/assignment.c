@@ -33,3 +33,16 @@ int sf_study_check_assignments(const sf_study *s, sf_error *err)
     }
     return SF_OK;
 }
+
+double sf_study_fold_sign(const sf_study *s, int i)
+{
+    if (i < 0 || i >= s->nfolds) return 0.0;
+    char key[64];
+    snprintf(key, sizeof key, "folds[%d].assignment", i);
+    if (!sf_study_has(s, key)) return 0.0;
+    const char *a = NULL;
+    sf_error e;
+    sf_error_clear(&e);
+    if (sf_study_string(s, key, "", &a, &e) || !a) return 0.0;
+    return strcmp(a, "V") == 0 ? 1.0 : strcmp(a, "M") == 0 ? -1.0 : 0.0;
+}

@@ -136,6 +136,9 @@ int sf_study_fail(const sf_study *s, sf_error *err, int code,
  * positive, or a valley ("V") one with a negative angle, is SF_EINPUT.
  * Called by sf_study_load. */
 int sf_study_check_assignments(const sf_study *s, sf_error *err);
+/* The sign fold i's assignment gives its angle: +1 valley ("V"), -1
+ * mountain ("M"), 0 when it has none (assignment.c). */
+double sf_study_fold_sign(const sf_study *s, int i);
 
 /* ---- lookups by name (exact match; -1 when absent) ---------------------- */
 int sf_study_vertex_index(const sf_study *s, const char *name);

@@ -482,14 +482,7 @@ static int assignment_rays(sf_equil *q, const sf_limit *L, double **rays)
     double *zv = calloc((size_t)L->n + 1, sizeof(double));
     if (!target || !gv || !zv) { free(target); free(gv); free(zv); return -1; }
     for (int i = 0; i < m->nfolds && i < s->nfolds; i++) {
-        char key[64];
-        snprintf(key, sizeof key, "folds[%d].assignment", i);
-        if (!sf_study_has(s, key)) continue;
-        const char *a = NULL;
-        sf_error e;
-        sf_error_clear(&e);
-        if (sf_study_string(s, key, "", &a, &e) || !a) continue;
-        double sg = strcmp(a, "V") == 0 ? 1.0 : strcmp(a, "M") == 0 ? -1.0 : 0.0;
+        double sg = sf_study_fold_sign(s, i);
         target[m->qoff[i]] = sg;
         any |= sg != 0.0;
     }

@@ -201,15 +201,9 @@ static int select_signs(const sf_equil *q, double *u, int *declared)
         double *t = u + m->qoff[i];
         if (fabs(*t) > 1e-8 * mx) continue;
         nzero++;
-        char key[64];
-        snprintf(key, sizeof key, "folds[%d].assignment", i);
-        const char *as = NULL;
-        sf_error e;
-        sf_error_clear(&e);
-        if (!sf_study_has(s, key) || sf_study_string(s, key, "", &as, &e)) continue;
-        if (strcmp(as, "V") == 0) *t = 1e-3 * mx;
-        else if (strcmp(as, "M") == 0) *t = -1e-3 * mx;
-        else continue;
+        double sg = sf_study_fold_sign(s, i);
+        if (sg == 0.0) continue;
+        *t = sg * 1e-3 * mx;
         (*declared)++;
     }
     return nzero;

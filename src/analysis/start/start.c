@@ -87,14 +87,7 @@ static int against_assignment(const sf_model *m, const double *y)
     int n = 0;
     double big = fold_amplitude(m, y);
     for (int i = 0; i < m->nfolds && i < s->nfolds; i++) {
-        char key[64];
-        snprintf(key, sizeof key, "folds[%d].assignment", i);
-        if (!sf_study_has(s, key)) continue;
-        const char *a = NULL;
-        sf_error e;
-        sf_error_clear(&e);
-        if (sf_study_string(s, key, "", &a, &e) || !a) continue;
-        double sg = strcmp(a, "V") == 0 ? 1.0 : strcmp(a, "M") == 0 ? -1.0 : 0.0;
+        double sg = sf_study_fold_sign(s, i);
         double th = y[m->qoff[i]];
         if (sg != 0.0 && fabs(th) > 1e-3 * big && th * sg < 0.0) n++;
     }
