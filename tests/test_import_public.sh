@@ -18,7 +18,7 @@ py=$(command -v python3)
 n=$(grep -vc '^#' "$man")
 nsvg=$(grep -v '^#' "$man" | awk -F'\t' '$1 ~ /\.svg$/ && $3 == "ok"' | wc -l)
 nfold=$(grep -v '^#' "$man" | awk -F'\t' '$1 ~ /\.fold(\.gz)?$/ && $3 == "ok" && $2 == "-"' | wc -l)
-echo "1..$((n + nsvg + 2 * nfold + 3))"
+echo "1..$((n + nsvg + 2 * nfold + 6))"
 grep -v '^#' "$man" > "$tmp/manifest"   # read below without a pipe: ok/nok count on
 while IFS='	' read -r file opts want; do
     f="$src/tests/public/$file"
@@ -87,3 +87,24 @@ if [ $rc -eq 1 ] && grep -q "faces.facets\[0\]: v132-v77 ends at v132, which lie
    "$bin" check "$tmp/k.cfg" --set faces.bending=true --set 'faces.facets=[]' -q >/dev/null 2>&1; then
     ok "kraft-bird-base.fold, faces.bending: a facet edge ending on a joined fold refused with the way out, which checks"
 else nok "kraft-bird-base.fold with faces.bending (status $rc)"; sed 's/^/#   /' "$tmp/out" | head -3; fi
+# mobility at the flat state: every vertex of a flat-foldable crease
+# pattern (Kawasaki's condition holds at each) moves under its own loops,
+# so none is "undecided"; Rabbit Ear's windmill twist folds as a whole,
+# and `run` folds it to p = 1 with the loops closed
+for f in crane-cp:44 kraft-bird-base:103; do
+    b=${f%:*}; nv=${f#*:}
+    "$bin" import "$src/tests/public/rabbit-ear/$b.fold" -o "$tmp/m-$b.cfg" >/dev/null 2>&1
+    "$bin" check "$tmp/m-$b.cfg" > "$tmp/out" 2>&1
+    if grep -q "^vertices under their own loops: $nv mobile, 0 locked, 0 undecided" "$tmp/out"; then
+        ok "$b.fold: all $nv interior vertices mobile under their own loops, none undecided"
+    else nok "$b.fold: vertices"; grep '^vertices\|undecided' "$tmp/out" | sed 's/^/#   /'; fi
+done
+"$bin" import "$src/tests/public/rabbit-ear/windmill.fold" -o "$tmp/w.cfg" >/dev/null 2>&1
+"$bin" check "$tmp/w.cfg" > "$tmp/out" 2>&1
+"$bin" run "$tmp/w.cfg" -o "$tmp/w" > "$tmp/run" 2>&1; rc=$?
+last=$(grep '^point' "$tmp/run" | tail -1)
+if grep -q '^mobility (exact loop closure, about the flat sheet): foldable' "$tmp/out" && [ $rc -eq 0 ] &&
+   printf '%s\n' "$last" | awk '{ for (i = 1; i < NF; i++) { if ($i == "p") p = $(i + 1); if ($i == "|g|") g = $(i + 1) } }
+       END { exit !(p == 1 && g + 0 < 1e-10) }'; then
+    ok "windmill.fold: check says foldable; run folds it to p = 1, loops closed ($last)"
+else nok "windmill.fold: check and run (status $rc)"; grep '^mobility' "$tmp/out" | sed 's/^/#   /'; tail -2 "$tmp/run" | sed 's/^/#   /'; fi

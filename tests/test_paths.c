@@ -226,6 +226,64 @@ static void test_degree4_locked(void **state)
     sf_scene_close(&sc);
 }
 
+static void test_degree3_locked(void **state)
+{
+    (void)state;
+    sf_scene sc;
+    sf_mobility mb;
+    /* K = 1: six coordinates; three first-order motions (the rotation rows
+     * about the in-plane axes and the normal translation are of first
+     * order); no prestress, but no second-order motion either */
+    open_test_scene(&sc, "deg3", 0, NULL);
+    mobility(&sc, &mb);
+    assert_int_equal(mb.first_order, 3);
+    assert_int_equal(mb.dof, 0);
+    assert_int_equal(mb.nlocked, 1);
+    assert_int_equal(mb.v[0].cert_kind, SF_CERT_SECOND_ORDER);
+    assert_true(mb.v[0].certificate > 1e-8);
+    assert_true(sf_mobility_locked(&mb));
+    print_message("# degree-3 vertex, K = 1: sum of squares gamma %.4g\n", mb.v[0].certificate);
+    sf_mobility_free(&mb);
+    sf_scene_close(&sc);
+    /* K = 0: three fold angles, locked already by a prestress */
+    const char *k0[] = {"defaults.modes=0"};
+    open_test_scene(&sc, "deg3", 1, k0);
+    mobility(&sc, &mb);
+    assert_int_equal(mb.dof, 0);
+    assert_int_equal(mb.v[0].cert_kind, SF_CERT_PRESTRESS);
+    sf_mobility_free(&mb);
+    sf_scene_close(&sc);
+}
+
+/* The sum-of-squares certificate on forms with closed-form answers.
+ * Q1 = v1^2 - v2^2, Q2 = 2 v1 v2: Q1^2 + Q2^2 = |v|^4, no real common
+ * zero, and every combination of Q1, Q2 is traceless, so no prestress
+ * exists; the Gram matrix of the sum (basis v1^2, sqrt2 v1 v2, v2^2) has
+ * largest eigenvalue 2, so gamma = 1 / 2.  Q1 alone vanishes on v1 = v2:
+ * no certificate. */
+static void test_sos_closed_form(void **state)
+{
+    (void)state;
+    double G[8] = {1, 0, 0, -1, 0, 1, 1, 0};
+    int st = -2;
+    double g = sf_mobility_sos(2, 2, G, &st);
+    assert_int_equal(st, 0);
+    CHECK_CLOSE(g, 0.5, 1e-6, "gamma of (v1^2 - v2^2)^2 + (2 v1 v2)^2");
+    g = sf_mobility_sos(2, 1, G, &st);
+    assert_int_equal(st, 0);
+    assert_true(g < 1e-8);
+    /* with a third variable and Q3 = -v0^2: sum = v0^4 + (v1^2 + v2^2)^2,
+     * whose minimum on the unit sphere is 1/2 (v0^2 = 1/2); the Gram
+     * matrix's largest eigenvalue is 2 again: gamma = 1/4 */
+    double H[27] = {0};
+    H[0 * 9 + 4] = 1; H[0 * 9 + 8] = -1;           /* Q1 on (v1, v2) */
+    H[1 * 9 + 5] = 1; H[1 * 9 + 7] = 1;            /* Q2 */
+    H[2 * 9 + 0] = -1;                             /* Q3 */
+    g = sf_mobility_sos(3, 3, H, &st);
+    assert_int_equal(st, 0);
+    CHECK_CLOSE(g, 0.25, 1e-6, "gamma of v0^4 + |v12|^4");
+}
+
 static void test_degree4_mobile(void **state)
 {
     (void)state;
@@ -400,6 +458,8 @@ int main(void)
         cmocka_unit_test(test_degree4_locked),
         cmocka_unit_test(test_degree4_mobile),
         cmocka_unit_test(test_studies_mobile),
+        cmocka_unit_test(test_degree3_locked),
+        cmocka_unit_test(test_sos_closed_form),
         cmocka_unit_test(test_mobility_bad_state),
         cmocka_unit_test(test_penalty_locking),
     };

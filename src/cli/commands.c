@@ -21,11 +21,12 @@
 
 static const char *vname(const sf_study *s, int v) { return s->vertices[v].name; }
 
-static void print_dof(int dof, int first, double gap, double radius)
+static void print_dof(int dof, int first, double gap, double radius, int kind)
 {
     if (dof > 0) printf("%d degree%s of freedom (%d at first order)", dof, dof == 1 ? "" : "s", first);
-    else if (dof == 0) printf("locked (%d at first order; loops do not close better than %.2g "
-                              "at %g rad)", first, gap, radius);
+    else if (dof == 0) printf("locked (%d at first order, %s; loops do not close better than %.2g "
+                              "at %g rad)", first, kind == SF_CERT_SECOND_ORDER ?
+                              "no second-order motion" : "a prestress", gap, radius);
     else printf("undecided: no closed state found at %g rad (residual %.2g) and no proof "
                 "of locking (%d at first order)", radius, gap, first);
 }
@@ -44,6 +45,9 @@ static void print_mobility_verdict(const sf_scene *sc, const sf_mobility *mb)
     else if (mb->dof > 0)
         printf("foldable, %d degree%s of freedom (%d at first order)\n", mb->dof, mb->dof == 1 ? "" : "s",
                mb->first_order);
+    else if (mb->dof == 0 && mb->cert_kind == SF_CERT_SECOND_ORDER)
+        printf("locked (%d at first order; no second-order motion: the stresses' forms sum in "
+               "squares to at least %.3g |v|^4)\n", mb->first_order, mb->certificate);
     else if (mb->dof == 0)
         printf("locked (%d at first order; a stress certifies it to second order: %.3g > 0)\n",
                mb->first_order, mb->certificate);
@@ -99,7 +103,7 @@ static int print_mobility(const sf_scene *sc, int verbose, sf_progress *progress
         const sf_mobility_vertex *mv = &mb.v[v];
         printf("  vertex %s (degree %d, %d coordinates) alone: ",
                vname(s, t->ivertices[v].vertex), t->ivertices[v].degree, mv->coords);
-        print_dof(mv->dof, mv->first_order, mv->gap, mb.radius);
+        print_dof(mv->dof, mv->first_order, mv->gap, mb.radius, mv->cert_kind);
         printf("\n");
     }
     sf_mobility_free(&mb);

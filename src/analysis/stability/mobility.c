@@ -28,13 +28,13 @@ extern void dgelss_(const int *m, const int *n, const int *nrhs, double *a, cons
 #define RANK_RTOL 1e-8      /* singular values below RANK_RTOL * sigma_max (and */
 #define RANK_ATOL 1e-12     /* below RANK_ATOL) do not count */
 #define MOB_MAXIT 40
-#define MOB_STARTS 6        /* Gauss-Newton starts from random first-order motions */
-#define MOB_LOCK 1e-3       /* locked when the residual exceeds MOB_LOCK r^2 */
-#define MOB_FORCES 2        /* second-order directions from random forces */
 #define MOB_FOUND 2         /* states on the constraint set, each perturbed twice */
 #define MOB_LIMIT_IT 400    /* Newton iterations of one limit problem */
 #define MOB_CERT_IT 300     /* gradient steps of the prestress certificate */
 #define MOB_CERT_TOL 1e-7   /* locked when lambda_min of the stress matrix exceeds this */
+#define MOB_SOS_TOL 1e-8    /* second-order rigid when the sum of squares' gamma exceeds this */
+#define MOB_RAY_IT 60      /* Gauss-Newton iterations of one cone ray */
+#define MOB_RAY_TOL 1e-13   /* a cone ray's forms, relative to their size */
 #define MOB_LOCAL_MAX 64    /* coordinates of one vertex (sf_constraints_vertex) */
 
 /* Work space and the problem of one analysis: coordinates C (global
@@ -428,15 +428,91 @@ done:
     return best;
 }
 
-/* Second-order motions as the response to random forces f of a unit
- * spring on every coordinate: the limit problem of flatstart.h with
- * H0 = I and gp = -f (a locked set has none: the homotopy does not reach
- * eps = 0).  Writes up to nforce unit directions into D (nc each); returns
- * how many, -1 when out of memory. */
-static int limit_directions(const probe *P, const second_order *so, int nforce, double *D)
+/* A ray of the second-order cone: a unit v (nnull values) with
+ * v^T Gh_s v = 0 for every self-stress s, by Gauss-Newton with
+ * minimum-norm steps (dgelss) on [v^T Gh_s v / scale; (|v|^2 - 1) / 2]
+ * from v (in: the start, out: the ray).  Returns 1 when the forms vanish
+ * to MOB_RAY_TOL relative to their scale, 0 when not, -1 out of memory. */
+static int cone_ray(const second_order *so, double *v)
 {
-    int with_study = P->Hs && P->gs;
+    int nn = so->nnull, n2 = so->n2, m = n2 + 1, one = 1, info, rank;
+    if (nn == 0 || n2 == 0) return 0;
+    double scale = 0.0, rcond = 1e-12;
+    for (size_t i = 0; i < (size_t)n2 * nn * nn; i++) scale = fmax(scale, fabs(so->Gh[i]));
+    if (!(scale > 0)) return 0;
+    int ldb = m > nn ? m : nn, lw = -1;
+    double *A = malloc(sizeof(double) * ((size_t)m * nn + 1));
+    double *d = malloc(sizeof(double) * ((size_t)ldb + 1));
+    double *r = malloc(sizeof(double) * ((size_t)m + 1));
+    double *t = malloc(sizeof(double) * ((size_t)nn + 1));
+    double *sv = malloc(sizeof(double) * ((size_t)ldb + 1));
+    double *w = NULL, wq;
+    int ok = -1;
+    if (!A || !d || !r || !t || !sv) goto done;
+    dgelss_(&m, &nn, &one, A, &m, d, &ldb, sv, &rcond, &rank, &wq, &lw, &info);
+    lw = (int)wq + 1;
+    if (!(w = malloc(sizeof(double) * (size_t)lw))) goto done;
+    ok = 0;
+    /* the residual and Jacobian at x: the forms, scaled, and the norm */
+#define RAY_EVAL(x, withA)                                                                   \
+    do {                                                                                     \
+        double h_ = 0.0;                                                                     \
+        for (int s_ = 0; s_ < n2; s_++) {                                                    \
+            const double *G_ = so->Gh + (size_t)s_ * nn * nn;                                \
+            double q_ = 0.0;                                                                 \
+            for (int a_ = 0; a_ < nn; a_++) {                                                \
+                double g_ = 0.0;                                                             \
+                for (int b_ = 0; b_ < nn; b_++) g_ += G_[(size_t)a_ * nn + b_] * (x)[b_];    \
+                q_ += (x)[a_] * g_;                                                          \
+                if (withA) A[(size_t)a_ * m + s_] = 2.0 * g_ / scale;                        \
+            }                                                                                \
+            r[s_] = q_ / scale;                                                              \
+        }                                                                                    \
+        for (int a_ = 0; a_ < nn; a_++) {                                                    \
+            h_ += (x)[a_] * (x)[a_];                                                         \
+            if (withA) A[(size_t)a_ * m + n2] = (x)[a_];                                     \
+        }                                                                                    \
+        r[n2] = 0.5 * (h_ - 1.0);                                                            \
+    } while (0)
+    for (int it = 0; it < MOB_RAY_IT; it++) {
+        RAY_EVAL(v, 1);
+        double r2 = 0.0, rinf = 0.0;
+        for (int i = 0; i < m; i++) {
+            r2 += r[i] * r[i];
+            rinf = fmax(rinf, fabs(r[i]));
+        }
+        if (rinf <= MOB_RAY_TOL) { ok = 1; break; }
+        for (int i = 0; i < ldb; i++) d[i] = i < m ? -r[i] : 0.0;
+        dgelss_(&m, &nn, &one, A, &m, d, &ldb, sv, &rcond, &rank, w, &lw, &info);
+        if (info != 0) break;
+        double step = 1.0;
+        int better = 0;
+        for (int bt = 0; bt < 30 && !better; bt++, step *= 0.5) {
+            for (int a = 0; a < nn; a++) t[a] = v[a] + step * d[a];
+            RAY_EVAL(t, 0);
+            double t2 = 0.0;
+            for (int i = 0; i < m; i++) t2 += r[i] * r[i];
+            better = t2 < r2;
+        }
+        if (!better) break;
+        memcpy(v, t, sizeof(double) * (size_t)nn);
+    }
+#undef RAY_EVAL
+done:
+    free(A); free(d); free(r); free(t); free(sv); free(w);
+    return ok;
+}
+
+/* The second-order motion the study's own driving selects: the limit
+ * problem of flatstart.h with the study's stiffness H0 and its loads and
+ * actuation gp at full value (a locked set has none: the homotopy does not
+ * reach eps = 0).  Writes it as a unit direction into D (nc values);
+ * returns 1, 0 when the study has no driving or the problem does not
+ * converge, -1 when out of memory. */
+static int driving_direction(const probe *P, const second_order *so, double *D)
+{
     int nc = P->nc, found = -1;
+    if (!P->Hs || !P->gs) return 0;
     sf_limit L;
     memset(&L, 0, sizeof L);
     L.nq = nc;
@@ -451,40 +527,26 @@ static int limit_directions(const probe *P, const second_order *so, int nforce, 
     double *z = calloc((size_t)L.n + 1, sizeof(double));
     if (!L.H0 || !L.gp || !L.c1 || !z) goto done;
     found = 0;
-    unsigned long long st = 0x9E3779B97F4A7C15ULL;
-    for (int f = -with_study; f < nforce; f++) {
-        double nf = 0.0, hmax = 0.0;
-        memset(L.H0, 0, sizeof(double) * (size_t)nc * nc);
-        if (f < 0) {
-            /* the study's own loads and stiffness first */
-            for (int a = 0; a < nc; a++) {
-                L.gp[a] = P->gs[P->C[a]];
-                nf += L.gp[a] * L.gp[a];
-                for (int b = 0; b < nc; b++) {
-                    L.H0[(size_t)a * nc + b] = P->Hs[(size_t)P->C[a] * P->nq + P->C[b]];
-                    hmax = fmax(hmax, fabs(L.H0[(size_t)a * nc + b]));
-                }
-            }
-            if (!(nf > 0) || !(hmax > 0)) continue;
-            for (size_t i = 0; i < (size_t)nc * nc; i++) L.H0[i] /= hmax;
-        } else {
-            for (int j = 0; j < nc; j++) {
-                L.H0[(size_t)j * nc + j] = 1.0;
-                st = st * 6364136223846793005ULL + 1442695040888963407ULL;
-                L.gp[j] = (double)(st >> 11) / 9007199254740992.0 - 0.5;
-                nf += L.gp[j] * L.gp[j];
-            }
+    double nf = 0.0, hmax = 0.0;
+    for (int a = 0; a < nc; a++) {
+        L.gp[a] = P->gs[P->C[a]];
+        nf += L.gp[a] * L.gp[a];
+        for (int b = 0; b < nc; b++) {
+            L.H0[(size_t)a * nc + b] = P->Hs[(size_t)P->C[a] * P->nq + P->C[b]];
+            hmax = fmax(hmax, fabs(L.H0[(size_t)a * nc + b]));
         }
-        for (int j = 0; j < nc; j++) L.gp[j] /= sqrt(nf);
-        double res = sf_limit_solve(&L, z, MOB_LIMIT_IT, NULL);
-        if (res < 0) { found = -1; goto done; }
-        double nu = 0.0;
-        for (int j = 0; j < nc; j++) nu += z[j] * z[j];
-        nu = sqrt(nu);
-        if (res <= 1e-9 && nu > 1e-8) {
-            for (int j = 0; j < nc; j++) D[(size_t)found * nc + j] = z[j] / nu;
-            found++;
-        }
+    }
+    if (!(nf > 0) || !(hmax > 0)) goto done;
+    for (size_t i = 0; i < (size_t)nc * nc; i++) L.H0[i] /= hmax;
+    for (int j = 0; j < nc; j++) L.gp[j] /= sqrt(nf);
+    double res = sf_limit_solve(&L, z, MOB_LIMIT_IT, NULL);
+    if (res < 0) { found = -1; goto done; }
+    double nu = 0.0;
+    for (int j = 0; j < nc; j++) nu += z[j] * z[j];
+    nu = sqrt(nu);
+    if (res <= 1e-9 && nu > 1e-8) {
+        for (int j = 0; j < nc; j++) D[j] = z[j] / nu;
+        found++;
     }
 done:
     sf_limit_free_G(&L);
@@ -540,7 +602,7 @@ static int try_start(probe *P, const double *q0, const double *v, int *found, in
 /* Analyse coordinates C against rows R about q0: first-order count, dof
  * (0: locked, -1: undecided), gap and the certificate value. */
 static int analyse(probe *P, const double *q0, int *first_order, int *dof, double *gap,
-                   double *cert)
+                   double *cert, int *kind)
 {
     int nc = P->nc, rc = 0;
     second_order so;
@@ -548,12 +610,13 @@ static int analyse(probe *P, const double *q0, int *first_order, int *dof, doubl
     *first_order = so.nnull;
     int nn = so.nnull;
     double *v = malloc(sizeof(double) * ((size_t)nc + 1));
-    double *D = malloc(sizeof(double) * ((size_t)(MOB_FORCES + 3) * nc + 1));
+    double *D = malloc(sizeof(double) * ((size_t)3 * nc + 1));
     if (!v || !D) { rc = -1; goto done; }
     int nd = 0, found = 0, maxrank = -1;
     double best = HUGE_VAL;
     *cert = certificate(P, &so, D, &nd);
     int locked = *cert > MOB_CERT_TOL;
+    *kind = locked ? SF_CERT_PRESTRESS : 0;
     /* look for states on the constraint set at |q - q0| = r: along the
      * limit problem's second-order motions (the study's loads, random
      * forces), then along first-order motions and mixtures of them.  A
@@ -565,25 +628,41 @@ static int analyse(probe *P, const double *q0, int *first_order, int *dof, doubl
             rc = try_start(P, q0, v, &found, &maxrank, &best);
         }
     } else if (!rc) {
-        int nl = limit_directions(P, &so, MOB_FORCES, D);
+        int nl = driving_direction(P, &so, D);
         if (nl < 0) rc = -1;
         for (int s = 0; s < nl && found < MOB_FOUND && !rc; s++)
             rc = try_start(P, q0, D + (size_t)s * nc, &found, &maxrank, &best);
+    }
+    /* the rays of the second-order cone nearest to each first-order
+     * motion, both signs (no motion of the set leaves the flat state
+     * except along a ray of that cone) */
+    for (int s = 0; s < 2 * nn && found < MOB_FOUND && !locked && !rc; s++) {
+        double *ray = D + (size_t)2 * nc;
+        memset(ray, 0, sizeof(double) * (size_t)nn);
+        ray[s / 2] = s % 2 ? -1.0 : 1.0;
+        int ok = cone_ray(&so, ray);
+        if (ok < 0) { rc = -1; break; }
+        if (!ok) continue;
+        memset(v, 0, sizeof(double) * (size_t)nc);
+        for (int a = 0; a < nn; a++)
+            for (int j = 0; j < nc; j++) v[j] += ray[a] * so.Z[(size_t)a * nc + j];
+        rc = try_start(P, q0, v, &found, &maxrank, &best);
     }
     for (int s = 0; s < 2 * nn && s < 4 && !found && !rc; s++) {
         for (int j = 0; j < nc; j++) v[j] = (s % 2 ? -1.0 : 1.0) * so.Z[(size_t)(s / 2) * nc + j];
         rc = try_start(P, q0, v, &found, &maxrank, &best);
     }
-    unsigned long long st = 0x2545F4914F6CDD1DULL;
-    for (int s = 0; s < MOB_STARTS && !found && !locked && !rc; s++) {
-        memset(v, 0, sizeof(double) * (size_t)nc);
-        int nb = nn > 0 ? nn : nc;
-        for (int a = 0; a < nb; a++) {
-            st = st * 6364136223846793005ULL + 1442695040888963407ULL;
-            double c = (double)(st >> 11) / 9007199254740992.0 - 0.5;
-            for (int j = 0; j < nc; j++) v[j] += c * (nn > 0 ? so.Z[(size_t)a * nc + j] : (j == a ? 1.0 : 0.0));
+    /* no ray of the cone and no prestress: second-order rigidity, if the
+     * forms have no common real zero (mobility_sos.c) */
+    if (!rc && !found && !locked) {
+        int st = 0;
+        double gamma = sf_mobility_sos(nn, so.n2, so.Gh, &st);
+        if (st < 0) rc = -1;
+        else if (gamma > MOB_SOS_TOL) {
+            locked = 1;
+            *cert = gamma;
+            *kind = SF_CERT_SECOND_ORDER;
         }
-        rc = try_start(P, q0, v, &found, &maxrank, &best);
     }
     if (!rc) {
         *gap = found ? 0.0 : best;
@@ -708,7 +787,7 @@ int sf_mobility_analyse(const sf_model *m, const double *q0in, sf_mobility *mb, 
         sf_mobility_vertex *mv = &mb->v[v];
         mv->ivertex = v;
         mv->coords = P.nc;
-        if (analyse(&P, q0, &mv->first_order, &mv->dof, &mv->gap, &mv->certificate)) {
+        if (analyse(&P, q0, &mv->first_order, &mv->dof, &mv->gap, &mv->certificate, &mv->cert_kind)) {
             rc = sf_fail(err, SF_ENUMERIC, "mobility: LAPACK failed");
             goto done;
         }
@@ -729,7 +808,7 @@ int sf_mobility_analyse(const sf_model *m, const double *q0in, sf_mobility *mb, 
     if (ncon == 0) {
         mb->first_order = nq;
         mb->dof = nq;
-    } else if (analyse(&P, q0, &mb->first_order, &mb->dof, &mb->gap, &mb->certificate)) {
+    } else if (analyse(&P, q0, &mb->first_order, &mb->dof, &mb->gap, &mb->certificate, &mb->cert_kind)) {
         rc = sf_fail(err, SF_ENUMERIC, "mobility: LAPACK failed");
         goto done;
     }
@@ -798,6 +877,7 @@ void sf_mobility_describe(const sf_model *m, const sf_mobility *mb, char *buf, s
             ADD("%s%s", v ? ", " : "", s->vertices[t->ivertices[v].vertex].name);
         ADD(" do not");
     }
-    ADD(" (more shape modes, defaults.modes = K >= 1, add coordinates)");
+    ADD("; to fold it: more shape modes (defaults.modes), the loop penalty "
+        "(solver.constraints = \"penalty\") or bending faces (faces.bending)");
 #undef ADD
 }

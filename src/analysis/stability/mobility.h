@@ -19,18 +19,26 @@
  *    Connelly and Whiteley, SIAM J. Discrete Math. 9, 1996): locked.  Found
  *    by maximising the smallest eigenvalue over |nu| <= 1 (concave;
  *    projected gradient ascent on a soft minimum, LAPACK dsyev).
- *  - Motion: a state that closes the loops on the sphere |q - q0| = r
- *    (r = 0.02 rad), by Gauss-Newton with minimum-norm steps (dgelss) on
- *    [g(q); (|q - q0|^2 - r^2) / (2 r)], started along second-order
- *    motions (the limit problem of flatstart.h with unit springs, under
- *    the study's own loads and under random forces), then along
- *    first-order motions.  If one converges (scaled residual <= 1e-10) the
- *    degrees of freedom are nq - rank J there (largest rank over the states
- *    found and two neighbours of each on the set, so that a state where
- *    branches cross, e.g. one straight line folded alone, does not count
- *    extra freedom).
- *  - Neither: undecided (dof = -1; locking, if any, of higher order, or a
- *    motion the probe did not find), with the smallest residual found.
+ *  - Motion: every analytic motion from q0 leaves along a ray of the
+ *    second-order cone (Z v with v^T Z^T G_s Z v = 0 for all s).  The rays
+ *    nearest to each first-order motion +-Z_a (Gauss-Newton on the
+ *    forms), and the second-order motion the study's own driving selects
+ *    (the limit problem of flatstart.h), start Gauss-Newton with
+ *    minimum-norm steps (dgelss) on [g(q); (|q - q0|^2 - r^2) / (2 r)] on
+ *    the sphere |q - q0| = r (r = 0.02 rad); then the first-order motions
+ *    themselves.  If one converges (scaled residual <= 1e-10) the degrees
+ *    of freedom are nq - rank J there (largest rank over the states found
+ *    and two neighbours of each on the set, so that a state where branches
+ *    cross, e.g. one straight line folded alone, does not count extra
+ *    freedom).
+ *  - No ray and no prestress: second-order rigidity, if the forms have no
+ *    common real zero, shown by a sum of squares (mobility_sos.c, up to
+ *    SF_MOBILITY_SOS_MAX first-order motions): locked.  Second-order
+ *    rigidity implies rigidity (Connelly and Whiteley 1996); it holds
+ *    where no prestress exists, e.g. at a degree-3 vertex with K = 1.
+ *  - None of these: undecided (dof = -1; locking, if any, of higher
+ *    order, or a motion the probe did not find), with the smallest
+ *    residual found.
  * Scale: each vertex's rows are evaluated locally (sf_constraints_vertex:
  * its own columns, no ncon x nq array) from the folding maps of its own
  * folds alone (sf_kin_eval_folds), so each vertex's analysis costs the
@@ -46,6 +54,16 @@
 #ifndef SF_MOBILITY_H
 #define SF_MOBILITY_H
 
+/* What proves a set locked: a prestress (lambda_min of a stress matrix
+ * on the first-order motions) or second-order rigidity (gamma of a sum of
+ * squares, sum_s Q_s(v)^2 >= gamma |v|^4 relative to its largest
+ * eigenvalue; mobility_sos.c). */
+#define SF_CERT_PRESTRESS 1
+#define SF_CERT_SECOND_ORDER 2
+/* the sum of squares runs up to this many first-order motions */
+#define SF_MOBILITY_SOS_MAX 8
+#define SF_MOBILITY_SOS_RHO 10.0
+
 #include <stddef.h>
 
 #include "kinematics.h"
@@ -58,7 +76,8 @@ typedef struct sf_mobility_vertex {
     int dof;            /* degrees of freedom under its own rows; 0: locked,
                            -1: undecided */
     double gap;         /* no motion found: smallest scaled loop residual at |q - q0| = r */
-    double certificate; /* largest lambda_min of a stress matrix (> 0: locked) */
+    double certificate; /* locked: the certificate's value (> 0), by cert_kind */
+    int cert_kind;      /* SF_CERT_PRESTRESS or SF_CERT_SECOND_ORDER; 0: none */
 } sf_mobility_vertex;
 
 typedef struct sf_mobility {
@@ -68,7 +87,8 @@ typedef struct sf_mobility {
     int dof;            /* degrees of freedom of the whole sheet; 0: locked,
                            -1: undecided */
     double gap;         /* no motion found: smallest scaled residual at |q - q0| = r */
-    double certificate; /* largest lambda_min of a stress matrix (> 0: locked) */
+    double certificate; /* locked: the certificate's value (> 0), by cert_kind */
+    int cert_kind;      /* SF_CERT_PRESTRESS or SF_CERT_SECOND_ORDER; 0: none */
     int nvertices;
     sf_mobility_vertex *v;
     int nlocked;        /* vertices whose own rows lock their folds */
@@ -107,5 +127,13 @@ int sf_mobility_locked(const sf_mobility *mb);
  * leave the sheet no motion at the flat state: vertex v7 (degree 4, 4
  * coordinates for 6 loop equations) locks its folds"; "" when nothing is. */
 void sf_mobility_describe(const sf_model *m, const sf_mobility *mb, char *buf, size_t size);
+
+/* Second-order rigidity of nn first-order motions under n2 forms G
+ * (n2 x nn x nn, row-major): the largest gamma found with sum_s (v^T G_s
+ * v)^2 >= gamma emax |v|^4 by a checked sum-of-squares certificate
+ * (> 0: no second-order motion; emax the largest eigenvalue of the
+ * forms' Gram matrix).  -INFINITY when nn exceeds SF_MOBILITY_SOS_MAX.
+ * *status: 0 ran, 1 the SDP failed, -1 out of memory. */
+double sf_mobility_sos(int nn, int n2, const double *G, int *status);
 
 #endif
