@@ -1,6 +1,7 @@
 /* progress.c - the progress reporter thread (progress.h). */
 #include "progress.h"
 
+#include <math.h>
 #include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -34,7 +35,8 @@ static void *report(void *arg)
     while (!p->stop) {
         struct timespec until;
         clock_gettime(CLOCK_REALTIME, &until);
-        until.tv_nsec += 250000000L;   /* look four times a second */
+        /* look four times a second, or twice a period if that is shorter */
+        until.tv_nsec += (long)(1e9 * fmin(0.25, 0.5 * p->period));
         if (until.tv_nsec >= 1000000000L) {
             until.tv_sec++;
             until.tv_nsec -= 1000000000L;

@@ -21,14 +21,13 @@ extern void dgelss_(const int *m, const int *n, const int *nrhs, double *a, cons
                     double *work, const int *lwork, int *info);
 
 #ifndef MOB_RADIUS
-#define MOB_RADIUS 0.02
+#define MOB_RADIUS 0.02     /* rad: radius of the probe sphere about q0 */
 #endif
-#define MOB_RADIUS_UNUSED     /* rad: radius of the probe sphere about q0 */
 #define MOB_TOL 1e-10       /* scaled residual of a state that closes the loops */
 #define RANK_RTOL 1e-8      /* singular values below RANK_RTOL * sigma_max (and */
 #define RANK_ATOL 1e-12     /* below RANK_ATOL) do not count */
 #define MOB_MAXIT 40
-#define MOB_FOUND 2         /* states on the constraint set, each perturbed twice */
+#define MOB_FOUND 2         /* states on the constraint set sought (each with its neighbours) */
 #define MOB_LIMIT_IT 400    /* Newton iterations of one limit problem */
 #define MOB_CERT_IT 300     /* gradient steps of the prestress certificate */
 #define MOB_CERT_TOL 1e-7   /* locked when lambda_min of the stress matrix exceeds this */
@@ -571,27 +570,34 @@ static int try_start(probe *P, const double *q0, const double *v, int *found, in
     double res = solve_on_sphere(P, q0, MOB_RADIUS);
     if (res < 0) return -1;
     if (res <= MOB_TOL) {
-        /* the rank there, and at two states nearby on the set (a state
-         * where branches cross, e.g. a straight line folded alone, has
-         * redundant rows: the largest rank is that of the branch) */
+        /* the rank there, and at states a step 0.5 r away along each
+         * motion the rows leave free there (null vectors of J), back on
+         * the set: where branches cross (e.g. one straight line folded
+         * alone) the rows are redundant, and a step along a branch's own
+         * tangent leaves the crossing; the largest rank is the branch's */
+        int rk = jacobian_rank(P, 1);
+        if (rk < 0) return -1;
+        if (rk > *maxrank) *maxrank = rk;
+        int nfree = nc - rk;
         double *x = malloc(sizeof(double) * (size_t)P->nq);
-        if (!x) return -1;
+        double *T = malloc(sizeof(double) * ((size_t)nfree * nc + 1));
+        if (!x || !T) { free(x); free(T); return -1; }
         copy_coords(P, x, P->q);
-        unsigned long long st = 0x853C49E6748FEA9BULL + (unsigned long long)*found;
-        for (int k = 0; k < 3; k++) {
-            if (k > 0) {
-                copy_coords(P, P->q, x);
-                for (int j = 0; j < nc; j++) {
-                    st = st * 6364136223846793005ULL + 1442695040888963407ULL;
-                    P->q[P->C[j]] += 0.2 * MOB_RADIUS * ((double)(st >> 11) / 9007199254740992.0 - 0.5);
-                }
-                if (solve_on_sphere(P, q0, MOB_RADIUS) > MOB_TOL) continue;
-            }
-            int rk = jacobian_rank(P, 0);
-            if (rk < 0) { free(x); return -1; }
-            if (rk > *maxrank) *maxrank = rk;
+        for (int a = 0; a < nfree; a++)
+            for (int j = 0; j < nc; j++) T[(size_t)a * nc + j] = P->VT[(size_t)j * nc + rk + a];
+        for (int s = 0; s < 2 * nfree; s++) {
+            copy_coords(P, P->q, x);
+            for (int j = 0; j < nc; j++)
+                P->q[P->C[j]] += (s % 2 ? -0.5 : 0.5) * MOB_RADIUS * T[(size_t)(s / 2) * nc + j];
+            double rs = solve_on_sphere(P, q0, MOB_RADIUS);
+            if (rs < 0) { free(x); free(T); return -1; }
+            if (rs > MOB_TOL) continue;
+            int rn = jacobian_rank(P, 0);
+            if (rn < 0) { free(x); free(T); return -1; }
+            if (rn > *maxrank) *maxrank = rn;
         }
         free(x);
+        free(T);
         (*found)++;
     } else if (res < *best) {
         *best = res;

@@ -28,9 +28,9 @@
  *    the sphere |q - q0| = r (r = 0.02 rad); then the first-order motions
  *    themselves.  If one converges (scaled residual <= 1e-10) the degrees
  *    of freedom are nq - rank J there (largest rank over the states found
- *    and two neighbours of each on the set, so that a state where branches
- *    cross, e.g. one straight line folded alone, does not count extra
- *    freedom).
+ *    and the states a step r/2 away along each null vector of J there,
+ *    back on the set: a state where branches cross, e.g. one straight
+ *    line folded alone, has redundant rows and would count extra freedom).
  *  - No ray and no prestress: second-order rigidity, if the forms have no
  *    common real zero, shown by a sum of squares (mobility_sos.c, up to
  *    SF_MOBILITY_SOS_MAX first-order motions): locked.  Second-order
