@@ -226,6 +226,102 @@ static void test_degree4_locked(void **state)
     sf_scene_close(&sc);
 }
 
+/* The two folding modes of a rigid degree-4 vertex at flat, in closed
+ * form: fold angles rho_i about the outward fold directions at angles
+ * phi_i (counter-clockwise) close the loop to first order when
+ * sum rho_i (cos phi_i, sin phi_i) = 0 (a plane of rho), and to second
+ * order when sum_{i<j} rho_i rho_j sin(phi_j - phi_i) = 0 (the normal
+ * component of the rotations' commutators): a quadratic on that plane,
+ * whose two roots are the modes.  Writes them unit into out; returns how
+ * many are real. */
+static int rigid_degree4_modes(const double phi[4], double out[2][4])
+{
+    /* rho = s u + t w with u = (1, 0, u2, u3), w = (0, 1, w2, w3) */
+    double c2 = cos(phi[2]), s2 = sin(phi[2]), c3 = cos(phi[3]), s3 = sin(phi[3]);
+    double det = c2 * s3 - c3 * s2, u[4], w[4];
+    for (int k = 0; k < 2; k++) {
+        double *x = k ? w : u, bx = -cos(phi[k]), by = -sin(phi[k]);
+        x[0] = k == 0;
+        x[1] = k == 1;
+        x[2] = (bx * s3 - c3 * by) / det;
+        x[3] = (c2 * by - s2 * bx) / det;
+    }
+#define RIGID_Q(r) ({ double q_ = 0.0; for (int i_ = 0; i_ < 4; i_++) for (int j_ = i_ + 1; j_ < 4; j_++) q_ += (r)[i_] * (r)[j_] * sin(phi[j_] - phi[i_]); q_; })
+    double uw[4];
+    for (int i = 0; i < 4; i++) uw[i] = u[i] + w[i];
+    double A = RIGID_Q(u), C = RIGID_Q(w), B = RIGID_Q(uw) - A - C, disc = B * B - 4 * A * C;
+#undef RIGID_Q
+    if (disc < 0) return 0;
+    for (int k = 0; k < 2; k++) {
+        /* A s^2 + B s t + C t^2 = 0: (s, t) = (2C, -B +- sqrt(disc)) or,
+         * when C = 0, the roots t = 0 and s = -C t / ... taken from A */
+        double sgn = k ? -1.0 : 1.0, ss, tt;
+        if (fabs(C) > fabs(A)) { ss = 2 * C; tt = -B + sgn * sqrt(disc); }
+        else { tt = 2 * A; ss = -B + sgn * sqrt(disc); }
+        double n = 0.0;
+        for (int i = 0; i < 4; i++) {
+            out[k][i] = ss * u[i] + tt * w[i];
+            n += out[k][i] * out[k][i];
+        }
+        for (int i = 0; i < 4; i++) out[k][i] /= sqrt(n);
+    }
+    return 2;
+}
+
+/* A degree-4 vertex has exactly two folding modes at flat: the mobility
+ * analysis of each vertex alone (finite widths, K = 1) finds two, and
+ * their fold angles are the rigid vertex's two (closed form above), on a
+ * generic vertex (deg4) and on the flat-foldable vertices of a Miura
+ * sheet, where one mode folds the straight line alone. */
+static void test_degree4_two_modes(void **state)
+{
+    (void)state;
+    const char *k1[] = {"defaults.modes=1"};
+    const char *names[] = {"deg4", "miura2"};
+    for (int c = 0; c < 2; c++) {
+        sf_scene sc;
+        sf_mobility mb;
+        open_test_scene(&sc, names[c], c == 0, k1);
+        mobility(&sc, &mb);
+        const sf_study *st = &sc.study;
+        for (int v = 0; v < mb.nvertices; v++) {
+            const sf_ivertex *iv = &sc.topo.ivertices[v];
+            const sf_mobility_vertex *mv = &mb.v[v];
+            assert_int_equal(iv->degree, 4);
+            assert_int_equal(mv->nfolds, 4);
+            if (mv->modes != 2) {
+                print_error("%s, vertex %s: %d folding modes, expected 2\n", names[c],
+                            st->vertices[iv->vertex].name, mv->modes);
+                fail();
+            }
+            double phi[4], want[2][4];
+            const double *x0 = st->vertices[iv->vertex].x;
+            for (int a = 0; a < 4; a++) {
+                const sf_fold_def *f = &st->folds[iv->folds[a]];
+                const double *x1 = st->vertices[f->a == iv->vertex ? f->b : f->a].x;
+                phi[a] = atan2(x1[1] - x0[1], x1[0] - x0[0]);
+            }
+            assert_int_equal(rigid_degree4_modes(phi, want), 2);
+            for (int k = 0; k < 2; k++) {
+                double best = 0.0;
+                for (int l = 0; l < 2; l++) {
+                    double cs = 0.0;
+                    for (int a = 0; a < 4; a++) cs += want[l][a] * mv->mode[k * 4 + a];
+                    best = fmax(best, fabs(cs));
+                }
+                if (v == 0)
+                    print_message("# %s, vertex %s: mode %d (%.5f %.5f %.5f %.5f), 1 - |cos| to the "
+                                  "rigid vertex's %.2g\n", names[c], st->vertices[iv->vertex].name,
+                                  k, mv->mode[k * 4], mv->mode[k * 4 + 1], mv->mode[k * 4 + 2],
+                                  mv->mode[k * 4 + 3], 1.0 - best);
+                CHECK_LE(1.0 - best, 1e-8, "a mode's fold angles against the rigid vertex's mode");
+            }
+        }
+        sf_mobility_free(&mb);
+        sf_scene_close(&sc);
+    }
+}
+
 static void test_degree3_locked(void **state)
 {
     (void)state;
@@ -459,6 +555,7 @@ int main(void)
         cmocka_unit_test(test_degree4_mobile),
         cmocka_unit_test(test_studies_mobile),
         cmocka_unit_test(test_degree3_locked),
+        cmocka_unit_test(test_degree4_two_modes),
         cmocka_unit_test(test_sos_closed_form),
         cmocka_unit_test(test_mobility_bad_state),
         cmocka_unit_test(test_penalty_locking),

@@ -104,6 +104,9 @@ static int print_mobility(const sf_scene *sc, int verbose, sf_progress *progress
         printf("  vertex %s (degree %d, %d coordinates) alone: ",
                vname(s, t->ivertices[v].vertex), t->ivertices[v].degree, mv->coords);
         print_dof(mv->dof, mv->first_order, mv->gap, mb.radius, mv->cert_kind);
+        if (mv->modes > 0)
+            printf(", %d folding mode%s%s", mv->modes, mv->modes == 1 ? "" : "s",
+                   mv->modes == SF_MOBILITY_MODES_MAX ? " or more" : "");
         printf("\n");
     }
     sf_mobility_free(&mb);

@@ -46,6 +46,9 @@ typedef struct probe {
     int lcols[MOB_LOCAL_MAX]; /* its local columns (sf_constraints_vertex) */
     int nlfolds;              /* its distinct folds, the only folding maps */
     int lfolds[MOB_LOCAL_MAX];/* its rows need (sf_kin_eval_folds) */
+    int nmodes;               /* a vertex's distinct second-order fold-angle */
+    double *modes;            /* directions (nlfolds values each, up to
+                                 SF_MOBILITY_MODES_MAX; NULL: not counted) */
     double *lJ, *lH;          /* 6 x MOB_LOCAL_MAX, MOB_LOCAL_MAX^2 */
     double lref;
     double *q, *g, *J;        /* full state, all rows, full Jacobian */
@@ -605,6 +608,36 @@ static int try_start(probe *P, const double *q0, const double *v, int *found, in
     return 0;
 }
 
+/* A cone ray v (nc values) as a folding mode of a vertex: its fold
+ * angles (each fold's first coordinate, in the order of P->lfolds), unit,
+ * the largest one positive; a new mode unless parallel (to 1e-6 in
+ * 1 - |cos|) to one recorded.  Rays that do not fold (fold angles below
+ * 1e-6 of the ray) are no mode. */
+static void record_mode(probe *P, const double *v)
+{
+    if (!P->modes || P->nmodes >= SF_MOBILITY_MODES_MAX) return;
+    int nf = P->nlfolds;
+    double p[MOB_LOCAL_MAX], nv = 0.0, np = 0.0, big = 0.0;
+    for (int j = 0; j < P->nc; j++) nv += v[j] * v[j];
+    for (int a = 0; a < nf; a++) {
+        p[a] = 0.0;
+        for (int j = 0; j < P->nc; j++)
+            if (P->C[j] == P->m->qoff[P->lfolds[a]]) p[a] = v[j];
+        np += p[a] * p[a];
+        if (fabs(p[a]) > fabs(big)) big = p[a];
+    }
+    if (!(np > 1e-12 * nv)) return;
+    np = copysign(sqrt(np), big);
+    for (int a = 0; a < nf; a++) p[a] /= np;
+    for (int k = 0; k < P->nmodes; k++) {
+        double c = 0.0;
+        for (int a = 0; a < nf; a++) c += p[a] * P->modes[(size_t)k * nf + a];
+        if (1.0 - fabs(c) <= 1e-6) return;
+    }
+    memcpy(P->modes + (size_t)P->nmodes * nf, p, sizeof(double) * (size_t)nf);
+    P->nmodes++;
+}
+
 /* Analyse coordinates C against rows R about q0: first-order count, dof
  * (0: locked, -1: undecided), gap and the certificate value. */
 static int analyse(probe *P, const double *q0, int *first_order, int *dof, double *gap,
@@ -641,18 +674,29 @@ static int analyse(probe *P, const double *q0, int *first_order, int *dof, doubl
     }
     /* the rays of the second-order cone nearest to each first-order
      * motion, both signs (no motion of the set leaves the flat state
-     * except along a ray of that cone) */
-    for (int s = 0; s < 2 * nn && found < MOB_FOUND && !locked && !rc; s++) {
+     * except along a ray of that cone); at a vertex all of them, for its
+     * folding modes */
+    int nstart = 2 * nn + (P->modes ? nn * (nn - 1) : 0);
+    for (int s = 0; s < nstart && !locked && !rc && (found < MOB_FOUND || P->modes); s++) {
         double *ray = D + (size_t)2 * nc;
         memset(ray, 0, sizeof(double) * (size_t)nn);
-        ray[s / 2] = s % 2 ? -1.0 : 1.0;
+        if (s < 2 * nn) {
+            ray[s / 2] = s % 2 ? -1.0 : 1.0;
+        } else {
+            /* at a vertex also Z_a + Z_b and Z_a - Z_b, a < b */
+            int k = (s - 2 * nn) / 2, a = 0;
+            while (k >= nn - 1 - a) k -= nn - 1 - a++;
+            ray[a] = 1.0;
+            ray[a + 1 + k] = (s - 2 * nn) % 2 ? -1.0 : 1.0;
+        }
         int ok = cone_ray(&so, ray);
         if (ok < 0) { rc = -1; break; }
         if (!ok) continue;
         memset(v, 0, sizeof(double) * (size_t)nc);
         for (int a = 0; a < nn; a++)
             for (int j = 0; j < nc; j++) v[j] += ray[a] * so.Z[(size_t)a * nc + j];
-        rc = try_start(P, q0, v, &found, &maxrank, &best);
+        record_mode(P, v);
+        if (found < MOB_FOUND) rc = try_start(P, q0, v, &found, &maxrank, &best);
     }
     for (int s = 0; s < 2 * nn && s < 4 && !found && !rc; s++) {
         for (int j = 0; j < nc; j++) v[j] = (s % 2 ? -1.0 : 1.0) * so.Z[(size_t)(s / 2) * nc + j];
@@ -683,6 +727,7 @@ done:
 
 void sf_mobility_free(sf_mobility *mb)
 {
+    for (int v = 0; mb->v && v < mb->nvertices; v++) free(mb->v[v].mode);
     free(mb->v);
     memset(mb, 0, sizeof *mb);
 }
@@ -793,10 +838,26 @@ int sf_mobility_analyse(const sf_model *m, const double *q0in, sf_mobility *mb, 
         sf_mobility_vertex *mv = &mb->v[v];
         mv->ivertex = v;
         mv->coords = P.nc;
+        mv->nfolds = P.nlfolds;
+        /* folding modes at degree 4, where each is one line of fold
+         * angles (at higher degree they come in families) */
+        if (iv->degree == 4 && P.nlfolds == 4) {
+            mv->mode = malloc(sizeof(double) * ((size_t)SF_MOBILITY_MODES_MAX * P.nlfolds + 1));
+            if (!mv->mode) {
+                rc = sf_fail(err, SF_ENOMEM, "out of memory");
+                goto done;
+            }
+        }
+        P.modes = mv->mode;
+        P.nmodes = 0;
         if (analyse(&P, q0, &mv->first_order, &mv->dof, &mv->gap, &mv->certificate, &mv->cert_kind)) {
             rc = sf_fail(err, SF_ENUMERIC, "mobility: LAPACK failed");
             goto done;
         }
+        /* modes count where the vertex moves (a locked or undecided
+         * vertex's cone rays lead to no state) */
+        mv->modes = mv->dof > 0 ? P.nmodes : 0;
+        P.modes = NULL;
         mb->nlocked += mv->dof == 0;
     }
     /* the whole sheet */

@@ -31,6 +31,11 @@
  *    and the states a step r/2 away along each null vector of J there,
  *    back on the set: a state where branches cross, e.g. one straight
  *    line folded alone, has redundant rows and would count extra freedom).
+ *    At a degree-4 vertex the rays are sought from more starts (also
+ *    Z_a + Z_b and Z_a - Z_b) and each is kept as a folding mode by its
+ *    fold angles (distinct directions up to sign): a degree-4 vertex
+ *    has two, those of the rigid vertex (tests/test_paths.c).  At higher
+ *    degree the modes come in families and are not counted.
  *  - No ray and no prestress: second-order rigidity, if the forms have no
  *    common real zero, shown by a sum of squares (mobility_sos.c, up to
  *    SF_MOBILITY_SOS_MAX first-order motions): locked.  Second-order
@@ -60,6 +65,8 @@
  * eigenvalue; mobility_sos.c). */
 #define SF_CERT_PRESTRESS 1
 #define SF_CERT_SECOND_ORDER 2
+/* folding modes recorded per vertex */
+#define SF_MOBILITY_MODES_MAX 8
 /* the sum of squares runs up to this many first-order motions */
 #define SF_MOBILITY_SOS_MAX 8
 #define SF_MOBILITY_SOS_RHO 10.0
@@ -78,6 +85,14 @@ typedef struct sf_mobility_vertex {
     double gap;         /* no motion found: smallest scaled loop residual at |q - q0| = r */
     double certificate; /* locked: the certificate's value (> 0), by cert_kind */
     int cert_kind;      /* SF_CERT_PRESTRESS or SF_CERT_SECOND_ORDER; 0: none */
+    int modes;          /* mobile, of degree 4: its folding modes found, the
+                           distinct fold-angle directions (up to sign) of
+                           the second-order cone's rays; 0 otherwise */
+    int nfolds;         /* its distinct folds (the order of sf_ivertex.folds,
+                           first occurrence) */
+    double *mode;       /* modes x nfolds: each mode's unit fold-angle
+                           direction, its largest angle positive (NULL
+                           unless of degree 4) */
 } sf_mobility_vertex;
 
 typedef struct sf_mobility {
