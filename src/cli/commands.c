@@ -91,10 +91,23 @@ static int print_mobility(const sf_scene *sc, int verbose, sf_progress *progress
     const sf_study *s = &sc->study;
     const sf_topology *t = &sc->topo;
     print_mobility_verdict(sc, &mb);
-    int mobile = 0;
-    for (int v = 0; v < mb.nvertices; v++) mobile += mb.v[v].dof > 0;
-    printf("vertices under their own loops: %d mobile, %d locked, %d undecided%s\n", mobile, mb.nlocked,
-           mb.nvertices - mobile - mb.nlocked, verbose ? "" : " (--verbose: each vertex)");
+    int mobile = 0, deg4 = 0, two = 0;
+    for (int v = 0; v < mb.nvertices; v++) {
+        mobile += mb.v[v].dof > 0;
+        if (mb.v[v].dof > 0 && t->ivertices[v].degree == 4) {
+            deg4++;
+            two += mb.v[v].modes == 2;
+        }
+    }
+    printf("vertices under their own loops: %d mobile, %d locked, %d undecided", mobile, mb.nlocked,
+           mb.nvertices - mobile - mb.nlocked);
+    /* a mobile degree-4 vertex has two folding modes (mobility.h) */
+    if (deg4 > 0 && two == deg4)
+        printf("; %s %d mobile of degree 4 with %s two folding modes", deg4 == 1 ? "the" : "all",
+               deg4, deg4 == 1 ? "its" : "their");
+    else if (deg4 > 0)
+        printf("; %d of the %d mobile of degree 4 with two folding modes found", two, deg4);
+    printf("%s\n", verbose ? "" : " (--verbose: each vertex)");
     if (!verbose) {
         print_vertex_group(sc, &mb, 0, "locked", 8);
         print_vertex_group(sc, &mb, -1, "undecided", 8);
