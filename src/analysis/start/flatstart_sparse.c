@@ -423,37 +423,27 @@ int sf_equil_poses_start_sparse(sf_equil *q, struct cont_solver *cs, const doubl
         snprintf(why, sizeof why, "the corrector went back to the flat state");
     }
     if (halvings > 4) {
-        char lim_why[300];
-        if (lim)
-            snprintf(lim_why, sizeof lim_why, "along the limit problem's solution (%d Newton "
-                     "iterations, limit energy %.6g)", li.iterations, li.energy);
-        else
-            snprintf(lim_why, sizeof lim_why, "along the first-order response: the sparse limit "
-                     "problem failed (%.200s)", lerr.msg);
-        /* Newton converging linearly at most of the attempts, also with
-         * the smaller regularisation: a nearly singular matrix at the
-         * state it approaches (docs/flatstart.md, "The sheet under
-         * gravity and a tip load") */
+        /* two plain sentences: what failed, what to try; the attempts'
+         * own messages only as far as they say where Newton stopped */
         if (lim && nslow >= 3)
-            rc = sf_fail(err, SF_ENUMERIC, "%s: flat start (sparse): no equilibrium found off the "
-                         "flat state %s: at %d of 6 attempts (from %.3g rad on the largest fold "
-                         "angle, halved 4 times; the first with the path's KKT regularisation, "
-                         "the others with %g) Newton converged only linearly (scaled residual "
-                         "%.2g at the last), i.e. its matrix is nearly singular at the state it "
-                         "approaches (large multipliers on nearly dependent fold rows, "
-                         "docs/flatstart.md, \"The sheet under gravity and a tip load\"); a "
-                         "smaller analysis.flat_angle or a looser solver.tolerance does not "
-                         "help; the loop penalty (solver.formulation = \"folds\", "
-                         "solver.constraints = \"penalty\") needs no start at the flat state",
-                         path, lim_why, nslow, angle, SMALL_REG, last_res);
+            /* Newton converging linearly at most attempts, also with the
+             * smaller regularisation: its matrix is nearly singular at the
+             * state it approaches (docs/flatstart.md, "The sheet under
+             * gravity and a tip load") */
+            rc = sf_fail(err, SF_ENUMERIC, "%s: flat start: no folded equilibrium found next to "
+                         "the flat sheet: Newton's matrix is nearly singular at the state it "
+                         "approaches (nearly dependent fold rows; scaled residual %.2g after 6 "
+                         "attempts from %.3g rad). Try the loop penalty (solver.formulation = "
+                         "\"folds\", solver.constraints = \"penalty\"), which needs no flat start",
+                         path, last_res, angle);
         else
-            rc = sf_fail(err, SF_ENUMERIC, "%s: flat start (sparse): no equilibrium found off the flat "
-                         "state %s (first step %.3g rad on the largest fold angle, "
-                         "again with the KKT regularisation %g, then halved 4 times; first: "
-                         "%.300s; last: %.300s); try a smaller analysis.flat_angle, "
-                         "analysis.flat_start = \"limit\" (dense tangent-cone analysis, small "
-                         "sheets), or a driving that selects a branch (folds[].assignment, a load)",
-                         path, lim_why, angle, SMALL_REG, why0, why);
+            rc = sf_fail(err, SF_ENUMERIC, "%s: flat start: no folded equilibrium found next to "
+                         "the flat sheet along the driving's direction (%s; 6 attempts from %.3g "
+                         "rad, the last: %.200s). Try `smoothfold check` (can every vertex "
+                         "fold?), a driving that selects a branch (folds[].assignment, a load), "
+                         "or the loop penalty (solver.constraints = \"penalty\")",
+                         path, lim ? "its second-order solution" : "its first-order response, the "
+                         "limit problem failed", angle, why);
         goto out;
     }
     const cont_point *pt = cont_get_point(cs);
