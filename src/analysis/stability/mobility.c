@@ -559,8 +559,10 @@ done:
     return found;
 }
 
-/* One start of the probe: direction v (nc values, any length). */
-static int try_start(probe *P, const double *q0, const double *v, int *found, int *maxrank,
+/* One start of the probe: direction v (nc values, any length).  A state
+ * found counts with the rank of the branch it lies on; *minrank keeps the
+ * smallest such rank over the states found (the largest branch). */
+static int try_start(probe *P, const double *q0, const double *v, int *found, int *minrank,
                      double *best)
 {
     int nc = P->nc;
@@ -577,11 +579,12 @@ static int try_start(probe *P, const double *q0, const double *v, int *found, in
          * motion the rows leave free there (null vectors of J), back on
          * the set: where branches cross (e.g. one straight line folded
          * alone) the rows are redundant, and a step along a branch's own
-         * tangent leaves the crossing; the largest rank is the branch's */
-        int rk = jacobian_rank(P, 1);
+         * tangent leaves the crossing; the largest rank is that of a
+         * branch through it */
+        int rk = jacobian_rank(P, 1), branch = rk;
         if (rk < 0) return -1;
-        if (rk > *maxrank) *maxrank = rk;
-        int nfree = nc - rk;
+        /* all rows independent: no crossing, nothing to look for */
+        int nfree = rk < (P->nr < nc ? P->nr : nc) ? nc - rk : 0;
         double *x = malloc(sizeof(double) * (size_t)P->nq);
         double *T = malloc(sizeof(double) * ((size_t)nfree * nc + 1));
         if (!x || !T) { free(x); free(T); return -1; }
@@ -597,10 +600,11 @@ static int try_start(probe *P, const double *q0, const double *v, int *found, in
             if (rs > MOB_TOL) continue;
             int rn = jacobian_rank(P, 0);
             if (rn < 0) { free(x); free(T); return -1; }
-            if (rn > *maxrank) *maxrank = rn;
+            if (rn > branch) branch = rn;
         }
         free(x);
         free(T);
+        if (branch < *minrank) *minrank = branch;
         (*found)++;
     } else if (res < *best) {
         *best = res;
@@ -651,7 +655,7 @@ static int analyse(probe *P, const double *q0, int *first_order, int *dof, doubl
     double *v = malloc(sizeof(double) * ((size_t)nc + 1));
     double *D = malloc(sizeof(double) * ((size_t)3 * nc + 1));
     if (!v || !D) { rc = -1; goto done; }
-    int nd = 0, found = 0, maxrank = -1;
+    int nd = 0, found = 0, minrank = nc + 1;
     double best = HUGE_VAL;
     *cert = certificate(P, &so, D, &nd);
     int locked = *cert > MOB_CERT_TOL;
@@ -664,31 +668,43 @@ static int analyse(probe *P, const double *q0, int *first_order, int *dof, doubl
     if (locked) {
         for (int s = 0; s < 2 * nd && !rc; s++) {
             for (int j = 0; j < nc; j++) v[j] = (s % 2 ? -1.0 : 1.0) * D[(size_t)(s / 2) * nc + j];
-            rc = try_start(P, q0, v, &found, &maxrank, &best);
+            rc = try_start(P, q0, v, &found, &minrank, &best);
         }
     } else if (!rc) {
         int nl = driving_direction(P, &so, D);
         if (nl < 0) rc = -1;
         for (int s = 0; s < nl && found < MOB_FOUND && !rc; s++)
-            rc = try_start(P, q0, D + (size_t)s * nc, &found, &maxrank, &best);
+            rc = try_start(P, q0, D + (size_t)s * nc, &found, &minrank, &best);
     }
     /* the rays of the second-order cone nearest to each first-order
      * motion, both signs (no motion of the set leaves the flat state
      * except along a ray of that cone); at a vertex all of them, for its
      * folding modes */
-    int nstart = 2 * nn + (P->modes ? nn * (nn - 1) : 0);
+    /* the starts: the first-order motions nearest to each coordinate
+     * direction (Z^T Z e_j, in Z's coordinates the column j of Z), both
+     * signs, and at a degree-4 vertex those nearest to e_i + e_j and
+     * e_i - e_j: unlike the rows of Z (an arbitrary basis, which rounding
+     * rotates) they depend on the null space alone */
+    int nstart = 2 * nc + (P->modes ? nc * (nc - 1) : 0);
     for (int s = 0; s < nstart && !locked && !rc && (found < MOB_FOUND || P->modes); s++) {
-        double *ray = D + (size_t)2 * nc;
-        memset(ray, 0, sizeof(double) * (size_t)nn);
-        if (s < 2 * nn) {
-            ray[s / 2] = s % 2 ? -1.0 : 1.0;
+        double *ray = D + (size_t)2 * nc, len = 0.0;
+        int ci, cj = -1;
+        double sj = 0.0;
+        if (s < 2 * nc) {
+            ci = s / 2;
         } else {
-            /* at a vertex also Z_a + Z_b and Z_a - Z_b, a < b */
-            int k = (s - 2 * nn) / 2, a = 0;
-            while (k >= nn - 1 - a) k -= nn - 1 - a++;
-            ray[a] = 1.0;
-            ray[a + 1 + k] = (s - 2 * nn) % 2 ? -1.0 : 1.0;
+            int k = (s - 2 * nc) / 2;
+            ci = 0;
+            while (k >= nc - 1 - ci) k -= nc - 1 - ci++;
+            cj = ci + 1 + k;
+            sj = (s - 2 * nc) % 2 ? -1.0 : 1.0;
         }
+        for (int a = 0; a < nn; a++) {
+            ray[a] = (s < 2 * nc && s % 2 ? -1.0 : 1.0) * so.Z[(size_t)a * nc + ci];
+            if (cj >= 0) ray[a] += sj * so.Z[(size_t)a * nc + cj];
+            len += ray[a] * ray[a];
+        }
+        if (!(len > 1e-12)) continue;   /* a direction no first-order motion takes */
         int ok = cone_ray(&so, ray);
         if (ok < 0) { rc = -1; break; }
         if (!ok) continue;
@@ -696,11 +712,19 @@ static int analyse(probe *P, const double *q0, int *first_order, int *dof, doubl
         for (int a = 0; a < nn; a++)
             for (int j = 0; j < nc; j++) v[j] += ray[a] * so.Z[(size_t)a * nc + j];
         record_mode(P, v);
-        if (found < MOB_FOUND) rc = try_start(P, q0, v, &found, &maxrank, &best);
+        if (found < MOB_FOUND) rc = try_start(P, q0, v, &found, &minrank, &best);
     }
-    for (int s = 0; s < 2 * nn && s < 4 && !found && !rc; s++) {
-        for (int j = 0; j < nc; j++) v[j] = (s % 2 ? -1.0 : 1.0) * so.Z[(size_t)(s / 2) * nc + j];
-        rc = try_start(P, q0, v, &found, &maxrank, &best);
+    for (int s = 0, tried = 0; s < 2 * nc && tried < 4 && !found && !rc; s++) {
+        double len = 0.0;
+        memset(v, 0, sizeof(double) * (size_t)nc);
+        for (int a = 0; a < nn; a++) {
+            double z = (s % 2 ? -1.0 : 1.0) * so.Z[(size_t)a * nc + s / 2];
+            len += z * z;
+            for (int j = 0; j < nc; j++) v[j] += z * so.Z[(size_t)a * nc + j];
+        }
+        if (!(len > 1e-12)) continue;
+        tried++;
+        rc = try_start(P, q0, v, &found, &minrank, &best);
     }
     /* no ray of the cone and no prestress: second-order rigidity, if the
      * forms have no common real zero (mobility_sos.c) */
@@ -716,7 +740,7 @@ static int analyse(probe *P, const double *q0, int *first_order, int *dof, doubl
     }
     if (!rc) {
         *gap = found ? 0.0 : best;
-        *dof = found ? nc - maxrank : locked ? 0 : -1;
+        *dof = found ? nc - minrank : locked ? 0 : -1;
     }
 done:
     so_free(&so);

@@ -21,18 +21,23 @@
  *    projected gradient ascent on a soft minimum, LAPACK dsyev).
  *  - Motion: every analytic motion from q0 leaves along a ray of the
  *    second-order cone (Z v with v^T Z^T G_s Z v = 0 for all s).  The rays
- *    nearest to each first-order motion +-Z_a (Gauss-Newton on the
- *    forms), and the second-order motion the study's own driving selects
- *    (the limit problem of flatstart.h), start Gauss-Newton with
- *    minimum-norm steps (dgelss) on [g(q); (|q - q0|^2 - r^2) / (2 r)] on
- *    the sphere |q - q0| = r (r = 0.02 rad); then the first-order motions
- *    themselves.  If one converges (scaled residual <= 1e-10) the degrees
- *    of freedom are nq - rank J there (largest rank over the states found
- *    and the states a step r/2 away along each null vector of J there,
- *    back on the set: a state where branches cross, e.g. one straight
- *    line folded alone, has redundant rows and would count extra freedom).
+ *    nearest to the first-order motions closest to each coordinate
+ *    direction, +-Z^T Z e_j (Gauss-Newton on the forms; these depend on
+ *    the null space alone, not on the basis Z that rounding rotates), and
+ *    the second-order motion the study's own driving selects (the limit
+ *    problem of flatstart.h), start Gauss-Newton with minimum-norm steps
+ *    (dgelss) on [g(q); (|q - q0|^2 - r^2) / (2 r)] on the sphere
+ *    |q - q0| = r (r = 0.02 rad); then the first-order motions
+ *    themselves.  Each state found (scaled residual <= 1e-10) lies on a
+ *    branch of dimension nq - rank J, the rank taken as the largest at
+ *    the state and at the states a step r/2 away along each null vector
+ *    of J there, back on the set (where branches cross, e.g. one straight
+ *    line folded alone, the rows are redundant and the rank drops); the
+ *    degrees of freedom are the largest branch's among the states found
+ *    (the first two): a lower bound where the set has branches of several
+ *    dimensions, as a whole sheet with K >= 1 may.
  *    At a degree-4 vertex the rays are sought from more starts (also
- *    Z_a + Z_b and Z_a - Z_b) and each is kept as a folding mode by its
+ *    Z^T Z (e_i +- e_j)) and each is kept as a folding mode by its
  *    fold angles (distinct directions up to sign): a degree-4 vertex
  *    has two, those of the rigid vertex (tests/test_paths.c).  At higher
  *    degree the modes come in families and are not counted.
