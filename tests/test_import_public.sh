@@ -18,7 +18,7 @@ py=$(command -v python3)
 n=$(grep -vc '^#' "$man")
 nsvg=$(grep -v '^#' "$man" | awk -F'\t' '$1 ~ /\.svg$/ && $3 == "ok"' | wc -l)
 nfold=$(grep -v '^#' "$man" | awk -F'\t' '$1 ~ /\.fold(\.gz)?$/ && $3 == "ok" && $2 == "-"' | wc -l)
-echo "1..$((n + nsvg + 2 * nfold + 6))"
+echo "1..$((n + nsvg + 2 * nfold + 7))"
 grep -v '^#' "$man" > "$tmp/manifest"   # read below without a pipe: ok/nok count on
 while IFS='	' read -r file opts want; do
     f="$src/tests/public/$file"
@@ -91,12 +91,14 @@ else nok "kraft-bird-base.fold with faces.bending (status $rc)"; sed 's/^/#   /'
 # pattern (Kawasaki's condition holds at each) moves under its own loops,
 # so none is "undecided", and each of degree 4 has two folding modes (the
 # counts of interior vertices, all and of degree 4, are the FOLD files':
-# the bird base's 78 of degree 2 split straight folds); Rabbit Ear's
+# their vertices of degree 2 split straight folds); Rabbit Ear's
 # windmill twist folds as a whole, and `run` folds it to p = 1 with the
 # loops closed
-for f in crane-cp:44:43 kraft-bird-base:103:87; do
+for f in rabbit-ear/crane-cp:44:43 rabbit-ear/kraft-bird-base:103:87 \
+         flat-folder/042_furutaoripa_katatsumuri_snail:97:96; do
     b=${f%%:*}; nv=${f#*:}; n4=${nv#*:}; nv=${nv%:*}
-    "$bin" import "$src/tests/public/rabbit-ear/$b.fold" -o "$tmp/m-$b.cfg" >/dev/null 2>&1
+    "$bin" import "$src/tests/public/$b.fold" -o "$tmp/m-${b#*/}.cfg" >/dev/null 2>&1
+    b=${b#*/}
     "$bin" check "$tmp/m-$b.cfg" > "$tmp/out" 2>&1
     if grep -q "^vertices under their own loops: $nv mobile, 0 locked, 0 undecided; all $n4 mobile of degree 4 with their two folding modes" "$tmp/out"; then
         ok "$b.fold: all $nv interior vertices mobile under their own loops, none undecided, the $n4 of degree 4 with two folding modes"

@@ -615,8 +615,10 @@ static int try_start(probe *P, const double *q0, const double *v, int *found, in
 /* A cone ray v (nc values) as a folding mode of a vertex: its fold
  * angles (each fold's first coordinate, in the order of P->lfolds), unit,
  * the largest one positive; a new mode unless parallel (to 1e-6 in
- * 1 - |cos|) to one recorded.  Rays that do not fold (fold angles below
- * 1e-6 of the ray) are no mode. */
+ * 1 - |cos|) to one recorded.  Rays that hardly fold (fold angles below
+ * 1e-3 of the ray) are no mode: near the intersection of two modes'
+ * planes a ray within the forms' tolerance (1e-13, so about 3e-7 off
+ * each plane) has fold angles of no definite direction. */
 static void record_mode(probe *P, const double *v)
 {
     if (!P->modes || P->nmodes >= SF_MOBILITY_MODES_MAX) return;
@@ -630,7 +632,7 @@ static void record_mode(probe *P, const double *v)
         np += p[a] * p[a];
         if (fabs(p[a]) > fabs(big)) big = p[a];
     }
-    if (!(np > 1e-12 * nv)) return;
+    if (!(np > 1e-6 * nv)) return;
     np = copysign(sqrt(np), big);
     for (int a = 0; a < nf; a++) p[a] /= np;
     for (int k = 0; k < P->nmodes; k++) {
