@@ -688,7 +688,11 @@ static int analyse(probe *P, const double *q0, int *first_order, int *dof, doubl
      * e_i - e_j: unlike the rows of Z (an arbitrary basis, which rounding
      * rotates) they depend on the null space alone */
     int nstart = 2 * nc + (P->modes ? nc * (nc - 1) : 0);
-    for (int s = 0; s < nstart && !locked && !rc && (found < MOB_FOUND || P->modes); s++) {
+    /* a degree-4 vertex's fold angles lie on its rigid cone, at most two
+     * lines (a quadratic form on the plane the in-plane rotation rows
+     * leave): the search for modes stops at two */
+    for (int s = 0; s < nstart && !locked && !rc &&
+                    (found < MOB_FOUND || (P->modes && P->nmodes < 2)); s++) {
         double *ray = D + (size_t)2 * nc, len = 0.0;
         int ci, cj = -1;
         double sj = 0.0;

@@ -37,10 +37,11 @@
  *    (the first two): a lower bound where the set has branches of several
  *    dimensions, as a whole sheet with K >= 1 may.
  *    At a degree-4 vertex the rays are sought from more starts (also
- *    Z^T Z (e_i +- e_j)) and each is kept as a folding mode by its
- *    fold angles (distinct directions up to sign): a degree-4 vertex
- *    has two, those of the rigid vertex (tests/test_paths.c).  At higher
- *    degree the modes come in families and are not counted.
+ *    Z^T Z (e_i +- e_j)) until two folding modes are found, each kept by
+ *    its fold angles (distinct directions up to sign); there are at most
+ *    two, the fold angles lying on the rigid vertex's cone (two lines),
+ *    and they are those (tests/test_paths.c).  At higher degree the modes
+ *    come in families and are not counted.
  *  - No ray and no prestress: second-order rigidity, if the forms have no
  *    common real zero, shown by a sum of squares (mobility_sos.c, up to
  *    SF_MOBILITY_SOS_MAX first-order motions): locked.  Second-order
