@@ -226,6 +226,15 @@ static void test_degree4_locked(void **state)
     sf_scene_close(&sc);
 }
 
+/* sum_{i<j} rho_i rho_j sin(phi_j - phi_i) */
+static double rigid_commutator(const double phi[4], const double rho[4])
+{
+    double q = 0.0;
+    for (int i = 0; i < 4; i++)
+        for (int j = i + 1; j < 4; j++) q += rho[i] * rho[j] * sin(phi[j] - phi[i]);
+    return q;
+}
+
 /* The two folding modes of a rigid degree-4 vertex at flat, in closed
  * form: fold angles rho_i about the outward fold directions at angles
  * phi_i (counter-clockwise) close the loop to first order when
@@ -238,7 +247,7 @@ static int rigid_degree4_modes(const double phi[4], double out[2][4])
 {
     /* rho = s u + t w with u = (1, 0, u2, u3), w = (0, 1, w2, w3) */
     double c2 = cos(phi[2]), s2 = sin(phi[2]), c3 = cos(phi[3]), s3 = sin(phi[3]);
-    double det = c2 * s3 - c3 * s2, u[4], w[4];
+    double det = c2 * s3 - c3 * s2, u[4], w[4], uw[4];
     for (int k = 0; k < 2; k++) {
         double *x = k ? w : u, bx = -cos(phi[k]), by = -sin(phi[k]);
         x[0] = k == 0;
@@ -246,15 +255,14 @@ static int rigid_degree4_modes(const double phi[4], double out[2][4])
         x[2] = (bx * s3 - c3 * by) / det;
         x[3] = (c2 * by - s2 * bx) / det;
     }
-#define RIGID_Q(r) ({ double q_ = 0.0; for (int i_ = 0; i_ < 4; i_++) for (int j_ = i_ + 1; j_ < 4; j_++) q_ += (r)[i_] * (r)[j_] * sin(phi[j_] - phi[i_]); q_; })
-    double uw[4];
     for (int i = 0; i < 4; i++) uw[i] = u[i] + w[i];
-    double A = RIGID_Q(u), C = RIGID_Q(w), B = RIGID_Q(uw) - A - C, disc = B * B - 4 * A * C;
-#undef RIGID_Q
+    double A = rigid_commutator(phi, u), C = rigid_commutator(phi, w);
+    double B = rigid_commutator(phi, uw) - A - C, disc = B * B - 4 * A * C;
     if (disc < 0) return 0;
     for (int k = 0; k < 2; k++) {
-        /* A s^2 + B s t + C t^2 = 0: (s, t) = (2C, -B +- sqrt(disc)) or,
-         * when C = 0, the roots t = 0 and s = -C t / ... taken from A */
+        /* the roots of A s^2 + B s t + C t^2 = 0: (s, t) = (2C, -B +- sqrt
+         * disc) or (-B +- sqrt disc, 2A), whichever divides by the larger
+         * coefficient */
         double sgn = k ? -1.0 : 1.0, ss, tt;
         if (fabs(C) > fabs(A)) { ss = 2 * C; tt = -B + sgn * sqrt(disc); }
         else { tt = 2 * A; ss = -B + sgn * sqrt(disc); }

@@ -644,6 +644,22 @@ static void record_mode(probe *P, const double *v)
     P->nmodes++;
 }
 
+/* The first-order motion nearest to sign e_ci (+ sj e_cj when cj >= 0),
+ * Z^T Z (e_ci + sj e_cj), in Z's coordinates (nn values): the columns of
+ * Z, which depend on the null space alone, unlike its rows (an arbitrary
+ * basis that rounding rotates).  Returns its squared length. */
+static double nearest_motion(const second_order *so, int nc, double sign, int ci, int cj,
+                             double sj, double *ray)
+{
+    double len = 0.0;
+    for (int a = 0; a < so->nnull; a++) {
+        ray[a] = sign * so->Z[(size_t)a * nc + ci];
+        if (cj >= 0) ray[a] += sj * so->Z[(size_t)a * nc + cj];
+        len += ray[a] * ray[a];
+    }
+    return len;
+}
+
 /* Analyse coordinates C against rows R about q0: first-order count, dof
  * (0: locked, -1: undecided), gap and the certificate value. */
 static int analyse(probe *P, const double *q0, int *first_order, int *dof, double *gap,
@@ -663,10 +679,10 @@ static int analyse(probe *P, const double *q0, int *first_order, int *dof, doubl
     int locked = *cert > MOB_CERT_TOL;
     *kind = locked ? SF_CERT_PRESTRESS : 0;
     /* look for states on the constraint set at |q - q0| = r: along the
-     * limit problem's second-order motions (the study's loads, random
-     * forces), then along first-order motions and mixtures of them.  A
-     * locked set only gets the certificate's candidates and the
-     * first-order motions (for the gap). */
+     * second-order motion the study's driving selects, then along the
+     * cone's rays, then along first-order motions.  A locked set only
+     * gets the certificate's candidates and the first-order motions (for
+     * the gap). */
     if (locked) {
         for (int s = 0; s < 2 * nd && !rc; s++) {
             for (int j = 0; j < nc; j++) v[j] = (s % 2 ? -1.0 : 1.0) * D[(size_t)(s / 2) * nc + j];
@@ -678,37 +694,22 @@ static int analyse(probe *P, const double *q0, int *first_order, int *dof, doubl
         for (int s = 0; s < nl && found < MOB_FOUND && !rc; s++)
             rc = try_start(P, q0, D + (size_t)s * nc, &found, &minrank, &best);
     }
-    /* the rays of the second-order cone nearest to each first-order
-     * motion, both signs (no motion of the set leaves the flat state
-     * except along a ray of that cone); at a vertex all of them, for its
-     * folding modes */
-    /* the starts: the first-order motions nearest to each coordinate
-     * direction (Z^T Z e_j, in Z's coordinates the column j of Z), both
-     * signs, and at a degree-4 vertex those nearest to e_i + e_j and
-     * e_i - e_j: unlike the rows of Z (an arbitrary basis, which rounding
-     * rotates) they depend on the null space alone */
+    /* the rays of the second-order cone (no motion of the set leaves the
+     * flat state except along one) nearest to the first-order motions
+     * nearest to +-e_j, and at a degree-4 vertex to e_i +- e_j too; the
+     * search for modes stops at two, since a degree-4 vertex's fold
+     * angles lie on its rigid cone, at most two lines (a quadratic form
+     * on the plane the in-plane rotation rows leave) */
     int nstart = 2 * nc + (P->modes ? nc * (nc - 1) : 0);
-    /* a degree-4 vertex's fold angles lie on its rigid cone, at most two
-     * lines (a quadratic form on the plane the in-plane rotation rows
-     * leave): the search for modes stops at two */
     for (int s = 0; s < nstart && !locked && !rc &&
                     (found < MOB_FOUND || (P->modes && P->nmodes < 2)); s++) {
-        double *ray = D + (size_t)2 * nc, len = 0.0;
-        int ci, cj = -1;
-        double sj = 0.0;
+        double *ray = D + (size_t)2 * nc, len;
         if (s < 2 * nc) {
-            ci = s / 2;
+            len = nearest_motion(&so, nc, s % 2 ? -1.0 : 1.0, s / 2, -1, 0.0, ray);
         } else {
-            int k = (s - 2 * nc) / 2;
-            ci = 0;
+            int k = (s - 2 * nc) / 2, ci = 0;
             while (k >= nc - 1 - ci) k -= nc - 1 - ci++;
-            cj = ci + 1 + k;
-            sj = (s - 2 * nc) % 2 ? -1.0 : 1.0;
-        }
-        for (int a = 0; a < nn; a++) {
-            ray[a] = (s < 2 * nc && s % 2 ? -1.0 : 1.0) * so.Z[(size_t)a * nc + ci];
-            if (cj >= 0) ray[a] += sj * so.Z[(size_t)a * nc + cj];
-            len += ray[a] * ray[a];
+            len = nearest_motion(&so, nc, 1.0, ci, ci + 1 + k, (s - 2 * nc) % 2 ? -1.0 : 1.0, ray);
         }
         if (!(len > 1e-12)) continue;   /* a direction no first-order motion takes */
         int ok = cone_ray(&so, ray);
@@ -721,14 +722,11 @@ static int analyse(probe *P, const double *q0, int *first_order, int *dof, doubl
         if (found < MOB_FOUND) rc = try_start(P, q0, v, &found, &minrank, &best);
     }
     for (int s = 0, tried = 0; s < 2 * nc && tried < 4 && !found && !rc; s++) {
-        double len = 0.0;
+        double *z = D + (size_t)2 * nc;
+        if (!(nearest_motion(&so, nc, s % 2 ? -1.0 : 1.0, s / 2, -1, 0.0, z) > 1e-12)) continue;
         memset(v, 0, sizeof(double) * (size_t)nc);
-        for (int a = 0; a < nn; a++) {
-            double z = (s % 2 ? -1.0 : 1.0) * so.Z[(size_t)a * nc + s / 2];
-            len += z * z;
-            for (int j = 0; j < nc; j++) v[j] += z * so.Z[(size_t)a * nc + j];
-        }
-        if (!(len > 1e-12)) continue;
+        for (int a = 0; a < nn; a++)
+            for (int j = 0; j < nc; j++) v[j] += z[a] * so.Z[(size_t)a * nc + j];
         tried++;
         rc = try_start(P, q0, v, &found, &minrank, &best);
     }
