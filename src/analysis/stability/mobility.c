@@ -58,6 +58,8 @@ typedef struct probe {
     int lwork;
     double *Hs, *gs;          /* the study's: Hessian and gradient of Pi at q0,
                                  every load and actuation at full value, or NULL */
+    double *states;           /* the whole sheet's: the states found (MOB_FOUND x nq), or NULL */
+    int nstates;
 } probe;
 
 static double row_scale(const probe *P, int r) { return r % 6 < 3 ? 1.0 : 1.0 / P->lref; }
@@ -581,6 +583,8 @@ static int try_start(probe *P, const double *q0, const double *v, int *found, in
          * alone) the rows are redundant, and a step along a branch's own
          * tangent leaves the crossing; the largest rank is that of a
          * branch through it */
+        if (P->states && P->nstates < MOB_FOUND)
+            memcpy(P->states + (size_t)P->nstates++ * P->nq, P->q, sizeof(double) * (size_t)P->nq);
         int rk = jacobian_rank(P, 1), branch = rk;
         if (rk < 0) return -1;
         /* all rows independent: no crossing, nothing to look for */
@@ -757,6 +761,7 @@ void sf_mobility_free(sf_mobility *mb)
 {
     for (int v = 0; mb->v && v < mb->nvertices; v++) free(mb->v[v].mode);
     free(mb->v);
+    free(mb->states);
     memset(mb, 0, sizeof *mb);
 }
 
@@ -903,9 +908,17 @@ int sf_mobility_analyse(const sf_model *m, const double *q0in, sf_mobility *mb, 
     if (ncon == 0) {
         mb->first_order = nq;
         mb->dof = nq;
-    } else if (analyse(&P, q0, &mb->first_order, &mb->dof, &mb->gap, &mb->certificate, &mb->cert_kind)) {
-        rc = sf_fail(err, SF_ENUMERIC, "mobility: LAPACK failed");
-        goto done;
+    } else {
+        P.states = mb->states = malloc(sizeof(double) * ((size_t)MOB_FOUND * nq + 1));
+        if (!mb->states) {
+            rc = sf_fail(err, SF_ENOMEM, "out of memory");
+            goto done;
+        }
+        if (analyse(&P, q0, &mb->first_order, &mb->dof, &mb->gap, &mb->certificate, &mb->cert_kind)) {
+            rc = sf_fail(err, SF_ENUMERIC, "mobility: LAPACK failed");
+            goto done;
+        }
+        mb->nstates = P.nstates;
     }
 done:
     mb->fold_evals = P.k.fold_evals;
@@ -961,9 +974,17 @@ void sf_mobility_describe(const sf_model *m, const sf_mobility *mb, char *buf, s
             const sf_mobility_vertex *mv = &mb->v[v];
             if (mv->dof) continue;
             ADD("%svertex %s (degree %d, %d coordinates for 6 loop equations, smallest loop "
-                "residual %.2g at %.2g rad)", k++ ? ", " : "",
+                "residual %.2g at %.2g rad%s", k++ ? ", " : "",
                 s->vertices[t->ivertices[v].vertex].name, t->ivertices[v].degree, mv->coords,
-                mv->gap, mb->radius);
+                mv->gap, mb->radius, mv->cert_kind ? "; " : ")");
+            if (mv->cert_kind == SF_CERT_PRESTRESS)
+                ADD("a prestress of its loops makes the second-order closure conditions positive "
+                    "definite on its %d first-order motions, smallest eigenvalue %.3g)",
+                    mv->first_order, mv->certificate);
+            else if (mv->cert_kind == SF_CERT_SECOND_ORDER)
+                ADD("its second-order closure conditions have no common real zero on its %d "
+                    "first-order motions, sum-of-squares margin %.3g)", mv->first_order,
+                    mv->certificate);
         }
         ADD(" lock%s %s folds", mb->nlocked == 1 ? "s" : "", mb->nlocked == 1 ? "its" : "their");
     } else {

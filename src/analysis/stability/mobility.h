@@ -116,6 +116,10 @@ typedef struct sf_mobility {
     int probed;         /* 1: the whole sheet's second-order probe ran (up to
                            SF_MOBILITY_DENSE_MAX coordinates); 0: first order
                            only (sparse rank), dof = -1 */
+    int nstates;        /* the whole sheet's probe: closed states found at
+                           |q - q0| = radius, the first along the study's
+                           driving where it has one (nstates x nq) */
+    double *states;
     long fold_evals;    /* folding maps evaluated by the analysis (each one
                            quadrature of the fold's section; the sparse
                            first-order count adds one evaluation of every

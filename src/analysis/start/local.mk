@@ -10,4 +10,4 @@ src_libsmoothfold_a_SOURCES += src/analysis/start/flatstart.c src/analysis/start
 	src/analysis/start/flatrigid.c src/analysis/start/flatrigid.h \
 	src/analysis/start/flatswitch.c src/analysis/start/flatswitch_follow.c src/analysis/start/flatswitch.h \
 	src/analysis/start/start.c src/analysis/start/start.h src/analysis/start/start_impl.h \
-	src/analysis/start/start_alm.c src/analysis/start/start_kkt.c src/analysis/start/start_cone.c
+	src/analysis/start/start_alm.c src/analysis/start/start_kkt.c

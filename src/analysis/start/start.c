@@ -12,6 +12,7 @@
 #include <time.h>
 
 #include "equilibrium_poses.h"
+#include "mobility.h"
 #include "study.h"
 
 /* Two branches are the same when their unit fold-angle directions (sign
@@ -206,8 +207,8 @@ static int minimise(start_ctx *c, const fs_control *ctl, double *y, double *mu, 
  * the amount of folding rel (row . (x - x0), or dp for a displacement
  * parameter), reduced where |p1 - p0| would exceed dp_max.  y, *mu
  * in/out. */
-static int drive(start_ctx *c, double *y, double *mu, double *relp, fs_alm_result *r,
-                 sf_error *err)
+static int drive(start_ctx *c, double *y, double *mu, double *relp, double eps_first,
+                 fs_alm_result *r, sf_error *err)
 {
     sf_equil *q = c->q;
     /* the work function Psi = Pi(p0 + 1) - Pi(p0) at the flat state
@@ -218,7 +219,7 @@ static int drive(start_ctx *c, double *y, double *mu, double *relp, fs_alm_resul
     double r0 = a - b;
     int fixed = q->disp_row >= 0;
     double rel = *relp;
-    double eps0 = 0.0;   /* the first run starts compliant; a rerun as stiff as it ended */
+    double eps0 = eps_first;   /* 0: the first run starts compliant; a rerun as stiff as it ended */
     for (int tries = 0; tries < 4; tries++) {
         fs_control ctl = {fixed ? FS_FIXED : FS_PARAM, fixed ? NULL : c->row, r0 + rel,
                           fixed ? c->p0 + rel : c->p0, eps0};
@@ -231,7 +232,7 @@ static int drive(start_ctx *c, double *y, double *mu, double *relp, fs_alm_resul
             /* phase 1's multipliers held its rotations against the bands:
              * phase 2 starts compliant from its state */
             memset(y + c->k.nx, 0, sizeof(double) * (size_t)c->k.m);
-            ctl.eps0 = 0.0;
+            ctl.eps0 = eps_first;
             rc = minimise(c, &ctl, y, mu, r, err);
         }
         *relp = rel;
@@ -248,78 +249,67 @@ static int drive(start_ctx *c, double *y, double *mu, double *relp, fs_alm_resul
     return SF_OK;
 }
 
-/* The certificate's margin: the smallest eigenvalue, relative to the
- * bending metric, that counts as positive. */
-#define CERT_MARGIN 1e-8
+/* The first proximal weight of a minimisation that starts from a closed
+ * state: the loops nearly rigid from the start (a compliant first step
+ * would leave the branch for the driving's unconstrained response). */
+#define CLOSED_EPS 1e-8
 
-/* The census of the sheet's branches (start.h): best (q->n) and *mu get
- * the closed state of lowest bending energy at the driving's amount of
- * folding target, *followed its fold + 1; *lmin the prestress certificate
- * where none closes; *cone_k the first-order motions (-2: too large). */
-static int census(start_ctx *c, double target, double musign, double *yb, double *best,
-                  double *mu, double *best_pi, int *followed, double *lmin, int *cone_k,
-                  sf_error *err)
+/* The census of the sheet's branches (start.h): the closed states that
+ * `check`'s mobility analysis finds at a small distance from the flat
+ * sheet (mobility.h: rays of the second-order cone, the first along the
+ * driving's own second-order motion) and their mirror images, on the side
+ * where the driving does work.  Each is scaled to the first point's
+ * largest fold angle and taken by the driving's own minimisation at its
+ * own amount of folding, with the loops rigid from the outset.  best
+ * (q->n) and *mu get the closed state of least energy, *followed its
+ * state + 1; mb the analysis (its verdict and certificate where none
+ * closes).  A seed that is not closed does not serve: the rigid-origami
+ * motion of flatrigid.h, with the bands' mode amplitudes zero, leaves the
+ * windmill's loops open by 9e-5 however stiff they are made (K = 1:
+ * closure needs a definite pattern of amplitudes). */
+static int census(start_ctx *c, double *yb, double *best, double *mu, double *best_pi,
+                  int *followed, sf_mobility *mb, sf_error *err)
 {
     sf_equil *q = c->q;
     const sf_model *m = q->m;
-    int n = q->n, nq = m->nq;
-    fs_cone C;
-    int rc = fs_cone_build(q, c->p0, &C, err);
-    if (rc == SF_EINPUT) { *cone_k = -2; return SF_OK; }
+    int n = q->n, nq = m->nq, nx = q->nq;
+    int rc = sf_mobility_analyse(m, NULL, mb, err);
     if (rc) return rc;
-    *cone_k = C.k;
-    c->info->cone_dim = C.k;
-    c->info->cone_forms = C.r;
-    double *x0 = malloc(sizeof(double) * ((size_t)C.k + 1));
-    double *x = malloc(sizeof(double) * ((size_t)C.k + 1));
-    double *nu = malloc(sizeof(double) * ((size_t)C.r + 1));
-    if (!x0 || !x || !nu) rc = sf_fail(err, SF_ENOMEM, "out of memory");
-    for (int f = 0; !rc && C.k > 0 && f < m->nfolds; f++) {
-        int i = m->qoff[f];
-        double nx0 = 0.0;
-        for (int b = 0; b < C.k; b++) {
-            x0[b] = C.N[(size_t)b * nq + i];
-            nx0 = fmax(nx0, fabs(x0[b]));
-        }
-        if (nx0 < 1e-8) continue;   /* the fold does not move at first order */
-        double res;
-        if (fs_cone_ray(&C, x0, x, &res)) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); break; }
-        if (!(res <= 1e-9)) continue;
-        c->info->singles++;
-        /* the sign along which the driving does work, the amplitude of the
-         * first point, then the driving's own minimisation from there */
-        double w = 0.0;
-        for (int b = 0; b < C.k; b++) w += C.c[b] * x[b];
-        double sg = w * c->dir > 0.0 ? -1.0 : 1.0, big = 0.0;
-        memset(yb, 0, sizeof(double) * (size_t)n);
-        for (int j = 0; j < nq; j++) {
-            double v = 0.0;
-            for (int b = 0; b < C.k; b++) v += C.N[(size_t)b * nq + j] * x[b];
-            yb[j] = sg * v;
-        }
-        for (int g = 0; g < m->nfolds; g++) big = fmax(big, fabs(yb[m->qoff[g]]));
-        for (int j = 0; j < nq; j++) yb[j] *= c->o->flat_angle / big;
+    double a, b, rr, rt;
+    sf_equil_report(q, c->y0, c->p0 + 1.0, &a, &rr, &rt);
+    sf_equil_report(q, c->y0, c->p0, &b, &rr, &rt);
+    double psi0 = a - b;   /* the work function at the flat state (drive) */
+    for (int s = 0; s < 2 * mb->nstates && !rc; s++) {
+        const double *st = mb->states + (size_t)(s / 2) * nq;
+        double big = 0.0;
+        for (int g = 0; g < m->nfolds; g++) big = fmax(big, fabs(st[m->qoff[g]]));
+        if (!(big > 0.0)) continue;
+        memcpy(yb, c->y0, sizeof(double) * (size_t)n);
+        double f = (s % 2 ? -1.0 : 1.0) * c->o->flat_angle / big;
+        for (int j = 0; j < nq; j++) yb[j] = c->y0[j] + f * st[j];
         if (q->pz) sf_equil_poses_lift(q, yb);
-        double mc = 0.0, rel = target;
+        /* the side on which the driving does work: -dF/dp . dx > 0 */
+        double w = 0.0;
+        for (int i = 0; i < nx; i++) w += c->row[i] * (yb[i] - c->y0[i]);
+        if (w * c->dir > 0.0) continue;
+        c->info->singles++;
+        sf_equil_report(q, yb, c->p0 + 1.0, &a, &rr, &rt);
+        sf_equil_report(q, yb, c->p0, &b, &rr, &rt);
+        double mc = 0.0, rel = a - b - psi0;
         fs_alm_result r;
-        rc = drive(c, yb, &mc, &rel, &r, err);
+        rc = drive(c, yb, &mc, &rel, CLOSED_EPS, &r, err);
         if (rc == SF_ENUMERIC) { sf_error_clear(err); rc = SF_OK; continue; }
         if (rc || !r.closed || mc * c->dir <= 0.0) continue;
         note_branch(c, yb);
-        double Pi, rr, rt;
+        double Pi;
         sf_equil_report(q, yb, c->p0, &Pi, &rr, &rt);
         if (Pi < *best_pi * (1.0 - 1e-9)) {
             *best_pi = Pi;
-            *followed = f + 1;
+            *followed = s / 2 + 1;
             *mu = mc;
             memcpy(best, yb, sizeof(double) * (size_t)n);
         }
     }
-    (void)musign;
-    if (!rc && *followed < 0 && C.k > 0 && fs_cone_certify(&C, lmin, nu) < 0)
-        rc = sf_fail(err, SF_ENOMEM, "out of memory");
-    free(x0); free(x); free(nu);
-    fs_cone_free(&C);
     return rc;
 }
 
@@ -330,6 +320,8 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
     double t0 = now();
     start_ctx c;
     memset(&c, 0, sizeof c);
+    sf_mobility mb;   /* the census's (`check`'s) analysis of the flat sheet */
+    memset(&mb, 0, sizeof mb);
     c.q = q;
     c.o = o;
     c.y0 = y0;
@@ -383,7 +375,7 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
     if (!rc) {
         target = c.dir * musign * o->flat_angle / amp;
         memcpy(yb, y0, sizeof(double) * (size_t)n);
-        rc = drive(&c, yb, &mu, &target, &r, err);
+        rc = drive(&c, yb, &mu, &target, 0.0, &r, err);
     }
     int followed = -1;   /* 0: the driving's, f + 1: fold f's */
     if (!rc && r.closed) {
@@ -394,31 +386,20 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
     } else if (!rc) {
         info->blocked = 1;
     }
-    /* the sheet's own branches: the rays of the tangent cone nearest to
-     * each fold's first-order motion, each taken by the driving's own
-     * minimisation (start_cone.c) */
-    double best_pi = INFINITY, lmin = -INFINITY;
-    int certified = 0, cone_k = -1;
-    if (!rc && (o->census || info->blocked) && q->disp_row < 0)
-        rc = census(&c, target, musign, yb, best, &mu, &best_pi, &followed, &lmin, &cone_k, err);
-    certified = lmin > CERT_MARGIN;
+    /* the sheet's own branches: the closed states of the mobility
+     * analysis, each taken by the driving's own minimisation (census) */
+    double best_pi = INFINITY;
+    int censused = !rc && (o->census || info->blocked) && q->disp_row < 0;
+    if (censused)
+        rc = census(&c, yb, best, &mu, &best_pi, &followed, &mb, err);
     info->branches = c.nbr;
     info->factorisations = c.k.nfact;
     if (rc) goto done;
-    if (followed < 0 && (certified || cone_k == 0)) {
+    if (followed < 0 && censused && sf_mobility_locked(&mb)) {
+        char what[1500];
         info->verdict = SF_FOLD_LOCKED;
-        if (cone_k == 0)
-            rc = sf_fail(err, SF_ELOCKED, "%s: flat start: locked: the loop rows leave no motion "
-                         "of the flat sheet even at first order (rigid faces and exact closure); "
-                         "to fold it, let its loops give (solver.constraints = \"penalty\") or its "
-                         "faces bend", path);
-        else
-            rc = sf_fail(err, SF_ELOCKED, "%s: flat start: locked: a prestress of the loops makes "
-                         "the second-order closure conditions positive definite on the sheet's %d "
-                         "first-order motions (smallest eigenvalue %.3g in the bending metric), so "
-                         "no motion leaves the flat sheet with rigid faces and exact closure; to "
-                         "fold it, let its loops give (solver.constraints = \"penalty\") or its "
-                         "faces bend", path, info->cone_dim, lmin);
+        sf_mobility_describe(m, &mb, what, sizeof what);
+        rc = sf_fail(err, SF_ELOCKED, "%s: flat start: locked: %s", path, what);
         goto done;
     }
     if (followed < 0) {
@@ -426,10 +407,10 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
         rc = sf_fail(err, SF_ENUMERIC, "%s: flat start: no closed state near the flat sheet along "
                      "the driving's response (loop residual %.2g after %d Newton steps)%s; the "
                      "sheet may not fold with rigid faces and exact loop closure: try "
-                     "solver.constraints = \"penalty\" (compliant loops)", path, r.gres,
-                     info->newton, cone_k > 0 ? ", nor along the rays of the tangent cone nearest "
-                         "to each fold's motion, and no prestress proves it locked" : cone_k == -2
-                         ? " (the sheet is too large for the tangent cone's dense analysis)" : "");
+                     "`smoothfold check` and solver.constraints = \"penalty\" (compliant loops)",
+                     path, r.gres, info->newton, !censused ? "" : mb.probed ?
+                     ", nor from the closed states that `check`'s mobility analysis finds" :
+                     " (the sheet is too large for the whole sheet's second-order analysis)");
         goto done;
     }
     double dp = mu;
@@ -454,10 +435,10 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
         if (followed == 0)
             o2 += snprintf(buf + o2, sizeof buf - (size_t)o2, "the driving's own branch");
         else
-            o2 += snprintf(buf + o2, sizeof buf - (size_t)o2, "the driving's response is blocked "
-                           "(no closed state near it); of the branches found by folding each "
-                           "fold alone, the one on which the driving does the most work (reached "
-                           "from fold %d)", followed);
+            o2 += snprintf(buf + o2, sizeof buf - (size_t)o2, "the branch of least energy "
+                           "through the closed states of `check`'s mobility analysis (state %d; "
+                           "the driving's own response is blocked: no closed state near it)",
+                           followed);
         if (info->symmetric)
             o2 += snprintf(buf + o2, sizeof buf - (size_t)o2, "; symmetric driving: the state it "
                            "selects is a saddle, left along its direction of negative curvature "
@@ -468,10 +449,11 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
         snprintf(info->note, sizeof info->note, "flat start: foldable: %d branch%s found%s; "
                  "following %s: first point at p = %.6g, largest fold angle %.4g rad (%d Newton "
                  "steps, %d outer iterations)", c.nbr, c.nbr == 1 ? "" : "es",
-                 info->singles ? " (with each fold folded alone)" : "", buf, *p1,
+                 info->singles ? " (with the mobility analysis's closed states)" : "", buf, *p1,
                  info->amplitude, info->newton, info->outer);
     }
 done:
+    sf_mobility_free(&mb);
     info->seconds = now() - t0;
     q->eps_anchor = 0.0;
     free(q->anchor_w);

@@ -17,11 +17,13 @@
  *
  * Where no closed state lies near the driving's response (its response is
  * blocked: the loops resist it at second order), the sheet's own branches
- * are looked for by folding each fold alone (the closed state with that
- * fold at the angle and the least energy), and the one on which the
- * driving does the most work per unit of bending energy is followed.
- * Where none closes either, the sheet is reported locked with a
- * certificate (start_cone.c) or undecided. */
+ * are taken from `check`'s mobility analysis of the flat sheet
+ * (mobility.h): each closed state it finds near the flat sheet, scaled to
+ * the first point's amplitude, starts the same minimisation with the loops
+ * rigid from the outset, and the branch of least energy is followed.
+ * Where none closes, the verdict is the mobility analysis's: locked with
+ * its certificate (a prestress or second-order rigidity, naming the
+ * vertices), or undecided. */
 #ifndef SF_START_H
 #define SF_START_H
 
@@ -32,7 +34,7 @@ typedef struct sf_start_opts {
     double dp_max;       /* |p1 - p0| at most (the first step of the path) */
     double tol;          /* Newton tolerance (scaled residual) */
     int branch;          /* 1; 2: the mirror image where the driving is symmetric */
-    int census;          /* also fold each fold alone and count the branches */
+    int census;          /* also try the mobility analysis's closed states and count the branches */
 } sf_start_opts;
 
 enum { SF_FOLD_UNKNOWN = 0, SF_FOLD_FOLDABLE = 1, SF_FOLD_LOCKED = 2, SF_FOLD_UNDECIDED = 3,
@@ -41,11 +43,11 @@ enum { SF_FOLD_UNKNOWN = 0, SF_FOLD_FOLDABLE = 1, SF_FOLD_LOCKED = 2, SF_FOLD_UN
 typedef struct sf_start_info {
     int verdict;         /* SF_FOLD_* */
     int branches;        /* distinct branches found (by their fold-angle directions) */
-    int singles;         /* rays of the tangent cone found from single folds' motions */
-    int cone_dim, cone_forms;  /* first-order motions, second-order conditions (census) */
+    int singles;         /* the mobility analysis's closed states tried (census) */
     int blocked;         /* the driving's response has no closed state near it */
     int symmetric;       /* the state the driving selects is a saddle: mirror branches */
-    int from_fold;       /* the branch followed: 0 the driving's own, f + 1 fold f's */
+    int from_fold;       /* the branch followed: 0 the driving's own, s + 1 through the
+                            mobility analysis's closed state s */
     int against;         /* folds of the first point that turn against their assignment */
     int outer, newton;   /* outer iterations and Newton steps, all minimisations */
     long factorisations;

@@ -83,23 +83,4 @@ typedef struct fs_alm_result {
 int fs_alm(fs_kkt *k, const fs_control *c, double *y, double *mu, int branch, double tol,
            fs_alm_result *res, sf_error *err);
 
-/* The tangent cone of the flat state in fold coordinates (start_cone.c),
- * scaled as the fold formulation scales its rows: N the first-order
- * motions (nq x k, orthonormal columns), A = N^T H0 N / kref, c = N^T
- * dgrad/dp / kref, Q an orthonormal basis (r forms, k x k each) of the
- * second-order conditions on them. */
-#define FS_CONE_MAXQ 800
-typedef struct fs_cone {
-    int nq, k, r;
-    double *N, *A, *c, *Q;
-} fs_cone;
-int fs_cone_build(const sf_equil *q, double p0, fs_cone *C, sf_error *err);
-void fs_cone_free(fs_cone *C);
-/* A ray of the cone near x0 (k values): x (k values, x^T A x = 1), *res
- * the largest |x^T Q_t x| left.  0, -1 out of memory. */
-int fs_cone_ray(const fs_cone *C, const double *x0, double *x, double *res);
-/* The prestress certificate (start_cone.c): *lmin > 0 proves the cone is
- * the origin; nu (r values) the stress. */
-int fs_cone_certify(const fs_cone *C, double *lmin, double *nu);
-
 #endif
