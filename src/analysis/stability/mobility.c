@@ -4,6 +4,7 @@
 
 #include "energy.h"
 #include "flatstart.h"
+#include "lmi.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -29,7 +30,6 @@ extern void dgelss_(const int *m, const int *n, const int *nrhs, double *a, cons
 #define MOB_MAXIT 40
 #define MOB_FOUND 2         /* states on the constraint set sought (each with its neighbours) */
 #define MOB_LIMIT_IT 400    /* Newton iterations of one limit problem */
-#define MOB_CERT_IT 300     /* gradient steps of the prestress certificate */
 #define MOB_CERT_TOL 1e-7   /* locked when lambda_min of the stress matrix exceeds this */
 #define MOB_SOS_TOL 1e-8    /* second-order rigid when the sum of squares' gamma exceeds this */
 #define MOB_RAY_IT 60      /* Gauss-Newton iterations of one cone ray */
@@ -342,92 +342,58 @@ done:
  * Math. 9, 1996): if some self-stress nu makes M(nu) = sum_s nu_s Gh_s
  * positive definite, no first-order motion u = Z v can satisfy the
  * second-order conditions v^T Gh_s v = 0 for all s, so the rows lock C.
- * lambda_min(M(nu)) is concave in nu: maximised over |nu| <= 1 (Gh scaled
- * to unit size) by projected gradient ascent on a soft minimum of the
- * eigenvalues (LAPACK dsyev).  Returns the best lambda_min found (> 0:
- * locked; <= 0: no certificate), and in dirs (nc each) up to two
- * candidate second-order motions Z v, v the eigenvectors of the two
- * smallest eigenvalues at the optimum; *ndirs their number. */
+ * lambda_min(M(nu)) is concave in nu; its maximum over |nu| <= 1 (Gh
+ * scaled by their largest Frobenius norm) is a semidefinite program,
+ * solved by DSDP (lmi.h) and checked with LAPACK dsyev at the nu found.
+ * Returns that lambda_min (> 0: locked; <= 0: no certificate), and in
+ * dirs (nc each) up to two candidate second-order motions Z v, v the
+ * eigenvectors of the two smallest eigenvalues there; *ndirs their
+ * number.  -HUGE_VAL when DSDP fails or memory runs out. */
 static double certificate(const probe *P, const second_order *so, double *dirs, int *ndirs)
 {
     int nn = so->nnull, n2 = so->n2, nc = P->nc, info, lw = -1;
+    size_t kk = (size_t)nn * nn;
     *ndirs = 0;
     if (nn == 0) return HUGE_VAL;          /* no first-order motion at all */
     if (n2 == 0) return -HUGE_VAL;         /* no self-stress: nothing to certify */
-    double scale = 0.0;
-    for (size_t i = 0; i < (size_t)n2 * nn * nn; i++) scale = fmax(scale, fabs(so->Gh[i]));
-    double *M = malloc(sizeof(double) * ((size_t)nn * nn + 1));
+    double amax = 0.0;
+    for (int s2 = 0; s2 < n2; s2++) {
+        double f = 0.0;
+        for (size_t i = 0; i < kk; i++) f += so->Gh[(size_t)s2 * kk + i] * so->Gh[(size_t)s2 * kk + i];
+        amax = fmax(amax, sqrt(f));
+    }
+    if (!(amax > 0)) return -HUGE_VAL;
+    double *M = malloc(sizeof(double) * (kk + 1));
     double *ev = malloc(sizeof(double) * ((size_t)nn + 1));
     double *nu = calloc((size_t)n2 + 1, sizeof(double));
-    double *best_nu = calloc((size_t)n2 + 1, sizeof(double));
-    double *gr = calloc((size_t)n2 + 1, sizeof(double));
-    double wq, best = -HUGE_VAL;
+    double wq, best = -HUGE_VAL, tlo;
     double *work = NULL;
-    if (!M || !ev || !nu || !best_nu || !gr) goto done;
+    if (!M || !ev || !nu) goto done;
     dsyev_("V", "U", &nn, M, &nn, ev, &wq, &lw, &info);
     lw = (int)wq + 1;
     work = malloc(sizeof(double) * (size_t)lw);
-    if (!work) goto done;
-    if (!(scale > 0)) goto done;
-    for (int it = 0; it <= MOB_CERT_IT; it++) {
-        int last = it == MOB_CERT_IT;
-        double *nuv = last ? best_nu : nu;
-        memset(M, 0, sizeof(double) * (size_t)nn * nn);
-        for (int s2 = 0; s2 < n2; s2++)
-            for (size_t i = 0; i < (size_t)nn * nn; i++) M[i] += nuv[s2] * so->Gh[(size_t)s2 * nn * nn + i] / scale;
-        dsyev_("V", "U", &nn, M, &nn, ev, work, &lw, &info);
-        if (info != 0) break;
-        if (last) {
-            /* candidate motions: eigenvectors of the smallest eigenvalues */
-            for (int k = 0; k < 2 && k < nn; k++) {
-                for (int j = 0; j < nc; j++) {
-                    double v = 0.0;
-                    for (int a = 0; a < nn; a++) v += M[(size_t)k * nn + a] * so->Z[(size_t)a * nc + j];
-                    dirs[(size_t)k * nc + j] = v;
-                }
-                (*ndirs)++;
-            }
-            break;
+    if (!work || sf_lmi_max_min_eig(nn, NULL, n2, so->Gh, 1.0, amax, 1.0, nu, &tlo, NULL))
+        goto done;
+    /* the check: lambda_min of M(nu) with the Gh in units of amax */
+    memset(M, 0, sizeof(double) * kk);
+    for (int s2 = 0; s2 < n2; s2++)
+        for (size_t i = 0; i < kk; i++) M[i] += nu[s2] * so->Gh[(size_t)s2 * kk + i];
+    dsyev_("V", "U", &nn, M, &nn, ev, work, &lw, &info);
+    if (info != 0) goto done;
+    best = ev[0];
+    /* candidate motions: eigenvectors of the smallest eigenvalues */
+    for (int k = 0; k < 2 && k < nn; k++) {
+        for (int j = 0; j < nc; j++) {
+            double v = 0.0;
+            for (int a = 0; a < nn; a++) v += M[(size_t)k * nn + a] * so->Z[(size_t)a * nc + j];
+            dirs[(size_t)k * nc + j] = v;
         }
-        if (ev[0] > best) {
-            best = ev[0];
-            memcpy(best_nu, nu, sizeof(double) * (size_t)n2);
-        }
-        /* soft minimum: weights exp(-beta (lambda_i - lambda_min)) */
-        double beta = 10.0 * pow(1e4, (double)it / MOB_CERT_IT), wsum = 0.0;
-        for (int i = 0; i < nn; i++) wsum += exp(-beta * (ev[i] - ev[0]));
-        for (int s2 = 0; s2 < n2; s2++) {
-            const double *G = so->Gh + (size_t)s2 * nn * nn;
-            double g = 0.0;
-            for (int i = 0; i < nn; i++) {
-                double wi = exp(-beta * (ev[i] - ev[0])) / wsum;
-                if (wi < 1e-12) continue;
-                const double *vi = M + (size_t)i * nn;
-                double q = 0.0;
-                for (int a = 0; a < nn; a++) {
-                    double t = 0.0;
-                    for (int b = 0; b < nn; b++) t += G[(size_t)a * nn + b] * vi[b];
-                    q += vi[a] * t;
-                }
-                g += wi * q / scale;
-            }
-            gr[s2] = g;
-        }
-        double step = 0.5 / (1.0 + 0.05 * it), nrm = 0.0;
-        for (int s2 = 0; s2 < n2; s2++) {
-            nu[s2] += step * gr[s2];
-            nrm += nu[s2] * nu[s2];
-        }
-        nrm = sqrt(nrm);
-        if (nrm > 1.0)
-            for (int s2 = 0; s2 < n2; s2++) nu[s2] /= nrm;
+        (*ndirs)++;
     }
 done:
     free(M);
     free(ev);
     free(nu);
-    free(best_nu);
-    free(gr);
     free(work);
     return best;
 }

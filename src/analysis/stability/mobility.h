@@ -17,8 +17,9 @@
  *    combination sum nu_s G_s is positive definite on the first-order
  *    motions Z, no motion survives to second order (prestress stability;
  *    Connelly and Whiteley, SIAM J. Discrete Math. 9, 1996): locked.  Found
- *    by maximising the smallest eigenvalue over |nu| <= 1 (concave;
- *    projected gradient ascent on a soft minimum, LAPACK dsyev).
+ *    by maximising the smallest eigenvalue over |nu| <= 1 (concave: a
+ *    semidefinite program, DSDP through lmi.h, checked with LAPACK
+ *    dsyev).
  *  - Motion: every analytic motion from q0 leaves along a ray of the
  *    second-order cone (Z v with v^T Z^T G_s Z v = 0 for all s).  The rays
  *    nearest to the first-order motions closest to each coordinate
