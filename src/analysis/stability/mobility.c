@@ -58,8 +58,10 @@ typedef struct probe {
     int lwork;
     double *Hs, *gs;          /* the study's: Hessian and gradient of Pi at q0,
                                  every load and actuation at full value, or NULL */
-    double *states;           /* the whole sheet's: the states found (MOB_FOUND x nq), or NULL */
+    double *states;           /* the whole sheet's: the states found (want x nq), or NULL */
     int nstates;
+    int want;                 /* closed states sought (MOB_FOUND for check) */
+    int branch_ranks;         /* 1: each state's branch rank from its neighbours (the dof) */
 } probe;
 
 static double row_scale(const probe *P, int r) { return r % 6 < 3 ? 1.0 : 1.0 / P->lref; }
@@ -549,12 +551,12 @@ static int try_start(probe *P, const double *q0, const double *v, int *found, in
          * alone) the rows are redundant, and a step along a branch's own
          * tangent leaves the crossing; the largest rank is that of a
          * branch through it */
-        if (P->states && P->nstates < MOB_FOUND)
+        if (P->states && P->nstates < P->want)
             memcpy(P->states + (size_t)P->nstates++ * P->nq, P->q, sizeof(double) * (size_t)P->nq);
         int rk = jacobian_rank(P, 1), branch = rk;
         if (rk < 0) return -1;
         /* all rows independent: no crossing, nothing to look for */
-        int nfree = rk < (P->nr < nc ? P->nr : nc) ? nc - rk : 0;
+        int nfree = P->branch_ranks && rk < (P->nr < nc ? P->nr : nc) ? nc - rk : 0;
         double *x = malloc(sizeof(double) * (size_t)P->nq);
         double *T = malloc(sizeof(double) * ((size_t)nfree * nc + 1));
         if (!x || !T) { free(x); free(T); return -1; }
@@ -661,7 +663,7 @@ static int analyse(probe *P, const double *q0, int *first_order, int *dof, doubl
     } else if (!rc) {
         int nl = driving_direction(P, &so, D);
         if (nl < 0) rc = -1;
-        for (int s = 0; s < nl && found < MOB_FOUND && !rc; s++)
+        for (int s = 0; s < nl && found < P->want && !rc; s++)
             rc = try_start(P, q0, D + (size_t)s * nc, &found, &minrank, &best);
     }
     /* the rays of the second-order cone (no motion of the set leaves the
@@ -672,7 +674,7 @@ static int analyse(probe *P, const double *q0, int *first_order, int *dof, doubl
      * on the plane the in-plane rotation rows leave) */
     int nstart = 2 * nc + (P->modes ? nc * (nc - 1) : 0);
     for (int s = 0; s < nstart && !locked && !rc &&
-                    (found < MOB_FOUND || (P->modes && P->nmodes < 2)); s++) {
+                    (found < P->want || (P->modes && P->nmodes < 2)); s++) {
         double *ray = D + (size_t)2 * nc, len;
         if (s < 2 * nc) {
             len = nearest_motion(&so, nc, s % 2 ? -1.0 : 1.0, s / 2, -1, 0.0, ray);
@@ -689,7 +691,7 @@ static int analyse(probe *P, const double *q0, int *first_order, int *dof, doubl
         for (int a = 0; a < nn; a++)
             for (int j = 0; j < nc; j++) v[j] += ray[a] * so.Z[(size_t)a * nc + j];
         record_mode(P, v);
-        if (found < MOB_FOUND) rc = try_start(P, q0, v, &found, &minrank, &best);
+        if (found < P->want) rc = try_start(P, q0, v, &found, &minrank, &best);
     }
     for (int s = 0, tried = 0; s < 2 * nc && tried < 4 && !found && !rc; s++) {
         double *z = D + (size_t)2 * nc;
@@ -731,7 +733,10 @@ void sf_mobility_free(sf_mobility *mb)
     memset(mb, 0, sizeof *mb);
 }
 
-int sf_mobility_analyse(const sf_model *m, const double *q0in, sf_mobility *mb, sf_error *err)
+/* The analysis (sf_mobility_analyse), the whole sheet's probe seeking
+ * want closed states, with their branch ranks (the dof) or without. */
+static int analyse_all(const sf_model *m, const double *q0in, int want, int branch_ranks,
+                       sf_mobility *mb, sf_error *err)
 {
     memset(mb, 0, sizeof *mb);
     const sf_topology *t = m->topo;
@@ -743,6 +748,8 @@ int sf_mobility_analyse(const sf_model *m, const double *q0in, sf_mobility *mb, 
     mb->v = calloc((size_t)nv + 1, sizeof *mb->v);
     probe P;
     memset(&P, 0, sizeof P);
+    P.want = MOB_FOUND;   /* each vertex: as check's */
+    P.branch_ranks = 1;
     P.m = m;
     P.nq = nq;
     P.ncon = ncon;
@@ -875,7 +882,9 @@ int sf_mobility_analyse(const sf_model *m, const double *q0in, sf_mobility *mb, 
         mb->first_order = nq;
         mb->dof = nq;
     } else {
-        P.states = mb->states = malloc(sizeof(double) * ((size_t)MOB_FOUND * nq + 1));
+        P.states = mb->states = malloc(sizeof(double) * ((size_t)want * nq + 1));
+        P.want = want;
+        P.branch_ranks = branch_ranks;
         if (!mb->states) {
             rc = sf_fail(err, SF_ENOMEM, "out of memory");
             goto done;
@@ -906,6 +915,16 @@ done:
     free(P.lH);
     if (rc) sf_mobility_free(mb);
     return rc;
+}
+
+int sf_mobility_analyse(const sf_model *m, const double *q0, sf_mobility *mb, sf_error *err)
+{
+    return analyse_all(m, q0, MOB_FOUND, 1, mb, err);
+}
+
+int sf_mobility_states(const sf_model *m, int want, sf_mobility *mb, sf_error *err)
+{
+    return analyse_all(m, NULL, want > 0 ? want : 1, 0, mb, err);
 }
 
 int sf_mobility_locked(const sf_mobility *mb)

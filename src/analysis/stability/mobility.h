@@ -146,6 +146,12 @@ int sf_mobility_first_order(const sf_model *m, const double *q, int *first, sf_e
 int sf_mobility_analyse(const sf_model *m, const double *q0, sf_mobility *mb, sf_error *err);
 void sf_mobility_free(sf_mobility *mb);
 
+/* The same analysis about the flat sheet, for the start's census
+ * (start.h): the whole sheet's probe seeks up to want closed states
+ * (mb->states) and does not measure their branches, so mb->dof is only
+ * 0 (locked), -1 (undecided) or > 0 (mobile, an upper bound). */
+int sf_mobility_states(const sf_model *m, int want, sf_mobility *mb, sf_error *err);
+
 /* Is the whole sheet, or any vertex, without motion? */
 int sf_mobility_locked(const sf_mobility *mb);
 

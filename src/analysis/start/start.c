@@ -254,31 +254,45 @@ static int drive(start_ctx *c, double *y, double *mu, double *relp, double eps_f
  * would leave the branch for the driving's unconstrained response). */
 #define CLOSED_EPS 1e-8
 
+/* Closed states the census asks the mobility analysis for (their
+ * mirror images are tried too). */
+#define CENSUS_STATES 6
+
 /* The census of the sheet's branches (start.h): the closed states that
  * `check`'s mobility analysis finds at a small distance from the flat
  * sheet (mobility.h: rays of the second-order cone, the first along the
  * driving's own second-order motion) and their mirror images, on the side
  * where the driving does work.  Each is scaled to the first point's
  * largest fold angle and taken by the driving's own minimisation at its
- * own amount of folding, with the loops rigid from the outset.  best
- * (q->n) and *mu get the closed state of least energy, *followed its
- * state + 1; mb the analysis (its verdict and certificate where none
- * closes).  A seed that is not closed does not serve: the rigid-origami
- * motion of flatrigid.h, with the bands' mode amplitudes zero, leaves the
+ * own amount of folding, with the loops rigid from the outset.
+ *
+ * The branch followed is the one of least energy at a given parameter.
+ * On branch b, near the flat state, the bending energy is U = k_b a^2 / 2
+ * and the driving's work -Psi = c_b a at amplitude a, so its equilibria
+ * have a = (p - p0) c_b / k_b and energy -(p - p0)^2 c_b^2 / (2 k_b): the
+ * branch with the largest c_b^2 / (2 k_b) = Psi^2 / (2 U), a ratio that
+ * does not depend on the amplitude at which it is measured.  (The least
+ * energy at equal amplitude would pick the stiffest branch: on the
+ * windmill, one that has folded 0.03 rad at p = 1.)
+ *
+ * best (q->n) and *mu get the state followed, *followed its index + 1; mb
+ * the analysis (its verdict and certificate where none closes).  A seed
+ * that is not closed does not serve: the rigid-origami motion of
+ * flatrigid.h, with the bands' mode amplitudes zero, leaves the
  * windmill's loops open by 9e-5 however stiff they are made (K = 1:
  * closure needs a definite pattern of amplitudes). */
-static int census(start_ctx *c, double *yb, double *best, double *mu, double *best_pi,
+static int census(start_ctx *c, double *yb, double *best, double *mu, double *best_score,
                   int *followed, sf_mobility *mb, sf_error *err)
 {
     sf_equil *q = c->q;
     const sf_model *m = q->m;
     int n = q->n, nq = m->nq, nx = q->nq;
-    int rc = sf_mobility_analyse(m, NULL, mb, err);
+    int rc = sf_mobility_states(m, CENSUS_STATES, mb, err);
     if (rc) return rc;
     double a, b, rr, rt;
     sf_equil_report(q, c->y0, c->p0 + 1.0, &a, &rr, &rt);
     sf_equil_report(q, c->y0, c->p0, &b, &rr, &rt);
-    double psi0 = a - b;   /* the work function at the flat state (drive) */
+    double psi0 = a - b, pi0 = b;   /* the work function and energy at the flat state */
     for (int s = 0; s < 2 * mb->nstates && !rc; s++) {
         const double *st = mb->states + (size_t)(s / 2) * nq;
         double big = 0.0;
@@ -303,8 +317,9 @@ static int census(start_ctx *c, double *yb, double *best, double *mu, double *be
         note_branch(c, yb);
         double Pi;
         sf_equil_report(q, yb, c->p0, &Pi, &rr, &rt);
-        if (Pi < *best_pi * (1.0 - 1e-9)) {
-            *best_pi = Pi;
+        double U = Pi - pi0, score = U > 0.0 ? rel * rel / (2.0 * U) : 0.0;
+        if (score > *best_score * (1.0 + 1e-9)) {
+            *best_score = score;
             *followed = s / 2 + 1;
             *mu = mc;
             memcpy(best, yb, sizeof(double) * (size_t)n);
@@ -388,10 +403,10 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
     }
     /* the sheet's own branches: the closed states of the mobility
      * analysis, each taken by the driving's own minimisation (census) */
-    double best_pi = INFINITY;
+    double best_score = 0.0;
     int censused = !rc && (o->census || info->blocked) && q->disp_row < 0;
     if (censused)
-        rc = census(&c, yb, best, &mu, &best_pi, &followed, &mb, err);
+        rc = census(&c, yb, best, &mu, &best_score, &followed, &mb, err);
     info->branches = c.nbr;
     info->factorisations = c.k.nfact;
     if (rc) goto done;
@@ -435,10 +450,10 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
         if (followed == 0)
             o2 += snprintf(buf + o2, sizeof buf - (size_t)o2, "the driving's own branch");
         else
-            o2 += snprintf(buf + o2, sizeof buf - (size_t)o2, "the branch of least energy "
-                           "through the closed states of `check`'s mobility analysis (state %d; "
-                           "the driving's own response is blocked: no closed state near it)",
-                           followed);
+            o2 += snprintf(buf + o2, sizeof buf - (size_t)o2, "the branch of least energy at "
+                           "a given parameter among those through the closed states of "
+                           "`check`'s mobility analysis (state %d; the driving's own response "
+                           "is blocked: no closed state near it)", followed);
         if (info->symmetric)
             o2 += snprintf(buf + o2, sizeof buf - (size_t)o2, "; symmetric driving: the state it "
                            "selects is a saddle, left along its direction of negative curvature "

@@ -20,7 +20,8 @@
  * are taken from `check`'s mobility analysis of the flat sheet
  * (mobility.h): each closed state it finds near the flat sheet, scaled to
  * the first point's amplitude, starts the same minimisation with the loops
- * rigid from the outset, and the branch of least energy is followed.
+ * rigid from the outset, and the branch of least energy at a given
+ * parameter is followed (start.c, census).
  * Where none closes, the verdict is the mobility analysis's: locked with
  * its certificate (a prestress or second-order rigidity, naming the
  * vertices), or undecided. */
