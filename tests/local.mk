@@ -52,4 +52,3 @@ tests_test_sweep_plan_CFLAGS = $(SF_TEST_CFLAGS)
 tests_test_sweep_plan_LDADD = $(SF_TEST_LIBS)
 EXTRA_DIST += tests/test_sweep.sh
 include tests/import.mk
-include tests/kernel2.mk

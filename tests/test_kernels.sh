@@ -17,7 +17,8 @@ src=${SF_SRCDIR:-$(dirname "$0")/..}
 build=${SF_BUILDDIR:-.}
 . "$src/tests/tap.sh"
 studies="square4 miura-2x2 yoshimura-2x2 waterbomb-2x2 twist square4-inplane"
-again="test_start.sh test_stab_cert test_stability test_bifurcation test_multibp"
+again="test_start.sh test_flatstart.sh test_flatstart_sparse.sh test_run_exact.sh test_paths
+       test_stab_cert test_stability test_stab_inertia.sh test_sstab test_bifurcation test_multibp"
 n1=0; for s in $studies; do n1=$((n1 + 1)); done
 n2=0; for t in $again; do n2=$((n2 + 1)); done
 echo "1..$((n1 + 1 + n2))"

@@ -1,3 +1,0 @@
-#!/bin/sh
-# test_run_exact.sh with a second OpenBLAS kernel (tests/kernel2/run.sh)
-exec sh "${SF_SRCDIR:-.}/tests/kernel2/run.sh" test_run_exact.sh
