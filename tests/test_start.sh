@@ -26,10 +26,16 @@
 #     846: the start's dense KKT path there, which once crashed) the
 #     first point in fold coordinates is the face-pose formulation's
 #     (p and fold angles to 1e-8).
+#  7: the 2x2 Miura sheet under a 0.01 N tip load (rest angles 0): its
+#     path from this start has every fold angle below 1e-3 rad at the
+#     first point, closed to 1e-10, and nothing there passes through
+#     anything (the validity check: at fold angles of 4e-4 rad a band's
+#     set-back end at a vertex on the outline meets the face beside it
+#     only where the model leaves a gap, as at interior vertices).
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 . "$src/tests/tap.sh"
-echo "1..6"
+echo "1..7"
 
 # the last row's p, probe1_uz, energy and fold angles, tab-separated
 state() {
@@ -142,3 +148,19 @@ else
     nok "5x5 Miura: exit $(cat "$tmp/m5folds.st") $(cat "$tmp/m5poses.st"), difference $d"; head -3 "$tmp/m5folds.out" | sed 's/^/#   /'
 fi
 
+
+# 7
+"$bin" pattern miura --load=0.01 -o "$tmp/ml.gen.cfg" >/dev/null 2>&1
+sed 's/^\(  { name = "[a-z0-9]*"; rest_angle = \)-\{0,1\}[0-9.]*;/\10.0;/' "$tmp/ml.gen.cfg" >"$tmp/ml.cfg"
+"$bin" run "$tmp/ml.cfg" -q -o "$tmp/ml" --set solver.formulation='"folds"' --set output.shapes=0 \
+    --set analysis.max_steps=1 --set 'analysis.flat_start="multipliers"' >"$tmp/ml.out" 2>&1; st=$?
+row=$(awk -F'\t' '/^#/ {next} !h {for (k = 1; k <= NF; k++) {c[$k] = k; if ($k ~ /^theta/) th[k] = 1}; h = 1; next}
+    $1 == 1 {big = 0; for (k in th) {a = $k < 0 ? -$k : $k; if (a > big) big = a}
+             printf "%.3g %s %s", big, $c["residual_rot"], ($c["warning"] == "" ? "-" : $c["warning"])}' "$tmp/ml/branch.tsv" 2>/dev/null)
+set -- $row
+if [ $st = 7 ] && [ $# -eq 3 ] && [ "$3" = "-" ] && ! grep -q 'passes through itself' "$tmp/ml.out" &&
+   awk -v a="$1" -v r="$2" 'BEGIN {exit !(a > 0 && a < 1e-3 && r <= 1e-10)}'; then
+    ok "2x2 Miura tip load: first point at largest fold angle $1 rad, closed ($2), nothing passes through anything"
+else
+    nok "2x2 Miura tip load: exit $st, first point '$row'"; grep 'passes through' "$tmp/ml.out" | head -c 300 | sed 's/^/#   /'
+fi

@@ -121,8 +121,8 @@ int sf_validity_create(const sf_model *m, int samples, sf_validity **out, sf_err
     v->x = calloc((size_t)v->npts + 1, sizeof *v->x);
     v->tbox = calloc((size_t)maxtri + 1, sizeof *v->tbox);
     v->pbox = calloc((size_t)v->nparts + 1, sizeof *v->pbox);
-    v->nreg = t->nivertices;
-    v->reg = calloc((size_t)v->nreg + 1, sizeof *v->reg);
+    v->nreg = t->nivertices;   /* and below, the band ends at other vertices */
+    v->reg = calloc((size_t)t->nivertices + 2 * (size_t)m->nfolds + 1, sizeof *v->reg);
     if (!v->pt || !v->tri || !v->part_first || !v->x || !v->tbox || !v->pbox || !v->reg ||
         sf_kin_alloc(m, &v->k))
         return sf_fail(err, SF_ENOMEM, "out of memory");
@@ -182,6 +182,25 @@ int sf_validity_create(const sf_model *m, int samples, sf_validity **out, sf_err
             int c0 = iv->sign[k] > 0 ? 0 : 1, c1 = iv->sign[k] > 0 ? 3 : 2;
             g->r = fmax(g->r, hypot(fg->corner[c0][0] - g->c[0], fg->corner[c0][1] - g->c[1]));
             g->r = fmax(g->r, hypot(fg->corner[c1][0] - g->c[0], fg->corner[c1][1] - g->c[1]));
+        }
+    }
+    /* a band that ends at a vertex on the outline leaves the same kind of
+     * gap there, between its set-back end and the faces either side: the
+     * disc about that vertex through the band's two corners at that end */
+    int nint = t->nivertices;
+    for (int f = 0; f < m->nfolds; f++) {
+        const sf_fold_geom *fg = &t->folds[f];
+        for (int e = 0; e < 2; e++) {
+            const double *c = e ? fg->b : fg->a;
+            int ca = e ? 1 : 0, cb = e ? 2 : 3, interior = 0;
+            for (int r = 0; r < nint && !interior; r++)
+                interior = hypot(v->reg[r].c[0] - c[0], v->reg[r].c[1] - c[1]) <= 1e-12 * t->size;
+            if (interior) continue;
+            vregion *g = &v->reg[v->nreg++];
+            g->c[0] = c[0];
+            g->c[1] = c[1];
+            g->r = fmax(hypot(fg->corner[ca][0] - c[0], fg->corner[ca][1] - c[1]),
+                        hypot(fg->corner[cb][0] - c[0], fg->corner[cb][1] - c[1]));
         }
     }
     return SF_OK;

@@ -16,7 +16,9 @@
  *    parts that border it meet there in ways the model does not resolve,
  *    so a crossing whose two material points both lie within that
  *    vertex's region (the disc about the vertex through the band corners
- *    nearest it) is contact, not penetration.
+ *    nearest it) is contact, not penetration; so is one at the set-back
+ *    end of a band at a vertex on the outline (the disc about that vertex
+ *    through the band's two corners there).
  *
  * delta is a tenth of the narrowest fold band: material points closer
  * than that cannot meet through folding (faces are rigid and a band
