@@ -211,7 +211,6 @@ static int start_by_multipliers(run_ctx *r, double *y0, double start, double end
     o.dp_max = 0.25 * fabs((r->seg_end != end ? r->seg_end : end) - start);
     o.tol = s->tolerance > 0 ? s->tolerance : 1e-10;
     o.branch = fb;
-    o.census = 0;
     sf_start_info si;
     double p1 = start;
     double *y1 = malloc(sizeof(double) * ((size_t)eq->n + 1));

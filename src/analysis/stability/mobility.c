@@ -553,7 +553,7 @@ static int try_start(probe *P, const double *q0, const double *v, int *found, in
          * branch through it */
         if (P->states && P->nstates < P->want)
             memcpy(P->states + (size_t)P->nstates++ * P->nq, P->q, sizeof(double) * (size_t)P->nq);
-        int rk = jacobian_rank(P, 1), branch = rk;
+        int rk = jacobian_rank(P, P->branch_ranks), branch = rk;   /* VT for the neighbours */
         if (rk < 0) return -1;
         /* all rows independent: no crossing, nothing to look for */
         int nfree = P->branch_ranks && rk < (P->nr < nc ? P->nr : nc) ? nc - rk : 0;

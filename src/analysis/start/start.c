@@ -207,16 +207,23 @@ static int minimise(start_ctx *c, const fs_control *ctl, double *y, double *mu, 
  * the amount of folding rel (row . (x - x0), or dp for a displacement
  * parameter), reduced where |p1 - p0| would exceed dp_max.  y, *mu
  * in/out. */
+/* The driving's work function Psi(y) = Pi(y; p0 + 1) - Pi(y; p0)
+ * (start_alm.c), and *pi = Pi(y; p0) when pi is not NULL. */
+static double work_function(const start_ctx *c, const double *y, double *pi)
+{
+    double a, b, rr, rt;
+    sf_equil_report(c->q, y, c->p0 + 1.0, &a, &rr, &rt);
+    sf_equil_report(c->q, y, c->p0, &b, &rr, &rt);
+    if (pi) *pi = b;
+    return a - b;
+}
+
 static int drive(start_ctx *c, double *y, double *mu, double *relp, double eps_first,
                  fs_alm_result *r, sf_error *err)
 {
     sf_equil *q = c->q;
-    /* the work function Psi = Pi(p0 + 1) - Pi(p0) at the flat state
-     * (start_alm.c): the amount of folding is measured from it */
-    double a, b, rr, rt;
-    sf_equil_report(q, c->y0, c->p0 + 1.0, &a, &rr, &rt);
-    sf_equil_report(q, c->y0, c->p0, &b, &rr, &rt);
-    double r0 = a - b;
+    /* the amount of folding is measured from the flat state's Psi */
+    double r0 = work_function(c, c->y0, NULL);
     int fixed = q->disp_row >= 0;
     double rel = *relp;
     double eps0 = eps_first;   /* 0: the first run starts compliant; a rerun as stiff as it ended */
@@ -292,10 +299,7 @@ static int census(start_ctx *c, double *yb, double *best, double *mu, double *be
     int n = q->n, nq = m->nq, nx = q->nq;
     int rc = sf_mobility_states(m, CENSUS_STATES, mb, err);
     if (rc) return rc;
-    double a, b, rr, rt;
-    sf_equil_report(q, c->y0, c->p0 + 1.0, &a, &rr, &rt);
-    sf_equil_report(q, c->y0, c->p0, &b, &rr, &rt);
-    double psi0 = a - b, pi0 = b;   /* the work function and energy at the flat state */
+    double pi0, psi0 = work_function(c, c->y0, &pi0);   /* at the flat state */
     for (int s = 0; s < 2 * mb->nstates && !rc; s++) {
         const double *st = mb->states + (size_t)(s / 2) * nq;
         double big = 0.0;
@@ -310,16 +314,14 @@ static int census(start_ctx *c, double *yb, double *best, double *mu, double *be
         for (int i = 0; i < nx; i++) w += c->row[i] * (yb[i] - c->y0[i]);
         if (w * c->dir > 0.0) continue;
         c->info->singles++;
-        sf_equil_report(q, yb, c->p0 + 1.0, &a, &rr, &rt);
-        sf_equil_report(q, yb, c->p0, &b, &rr, &rt);
-        double mc = 0.0, rel = a - b - psi0;
+        double mc = 0.0, rel = work_function(c, yb, NULL) - psi0;
         fs_alm_result r;
         rc = drive(c, yb, &mc, &rel, CLOSED_EPS, &r, err);
         if (rc == SF_ENUMERIC) { sf_error_clear(err); rc = SF_OK; continue; }
         if (rc || !r.closed || mc * c->dir <= 0.0) continue;
         note_branch(c, yb);
         double Pi;
-        sf_equil_report(q, yb, c->p0, &Pi, &rr, &rt);
+        work_function(c, yb, &Pi);
         double U = Pi - pi0, score = U > 0.0 ? rel * rel / (2.0 * U) : 0.0;
         if (score > *best_score * (1.0 + 1e-9)) {
             *best_score = score;
@@ -407,7 +409,7 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
     /* the sheet's own branches: the closed states of the mobility
      * analysis, each taken by the driving's own minimisation (census) */
     double best_score = 0.0;
-    int censused = !rc && (o->census || info->blocked) && q->disp_row < 0;
+    int censused = !rc && info->blocked && q->disp_row < 0;
     if (censused)
         rc = census(&c, yb, best, &mu, &best_score, &followed, &mb, err);
     info->branches = c.nbr;

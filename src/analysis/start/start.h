@@ -35,7 +35,6 @@ typedef struct sf_start_opts {
     double dp_max;       /* |p1 - p0| at most (the first step of the path) */
     double tol;          /* Newton tolerance (scaled residual) */
     int branch;          /* 1; 2: the mirror image where the driving is symmetric */
-    int census;          /* also try the mobility analysis's closed states and count the branches */
 } sf_start_opts;
 
 enum { SF_FOLD_UNKNOWN = 0, SF_FOLD_FOLDABLE = 1, SF_FOLD_LOCKED = 2, SF_FOLD_UNDECIDED = 3,
