@@ -32,10 +32,18 @@
 #     anything (the validity check: at fold angles of 4e-4 rad a band's
 #     set-back end at a vertex on the outline meets the face beside it
 #     only where the model leaves a gap, as at interior vertices).
+#  8: Rabbit Ear's wavy Miura (tests/public/rabbit-ear/wavy-miura-no-faces.fold,
+#     as imported: K = 1): no closed state, exit 3 in one line that
+#     names defaults.modes = 2 (its 294 loop rows outnumber its 224 fold
+#     coordinates); with defaults.modes = 2 it folds to p = 1 in face
+#     poses and in fold coordinates, every point closed (rotation rows
+#     1e-10, translation rows 1e-12 m), stable at every point (poses),
+#     and the two formulations end in the same state (p, probe, energy,
+#     every fold angle to 1e-8).
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 . "$src/tests/tap.sh"
-echo "1..7"
+echo "1..8"
 
 # the last row's p, probe1_uz, energy and fold angles, tab-separated
 state() {
@@ -163,4 +171,29 @@ if [ $st = 7 ] && [ $# -eq 3 ] && [ "$3" = "-" ] && ! grep -q 'passes through it
     ok "2x2 Miura tip load: first point at largest fold angle $1 rad, closed ($2), nothing passes through anything"
 else
     nok "2x2 Miura tip load: exit $st, first point '$row'"; grep 'passes through' "$tmp/ml.out" | head -c 300 | sed 's/^/#   /'
+fi
+
+# 8
+"$bin" import "$src/tests/public/rabbit-ear/wavy-miura-no-faces.fold" -o "$tmp/wv.cfg" >/dev/null 2>&1
+"$bin" run "$tmp/wv.cfg" -q -o "$tmp/wv1" --set 'analysis.flat_start="multipliers"' --set output.shapes=0 \
+    >"$tmp/wv1.out" 2>&1; s1=$?
+"$bin" run "$tmp/wv.cfg" -q -o "$tmp/wvp" --set 'analysis.flat_start="multipliers"' --set defaults.modes=2 \
+    --set 'solver.formulation="poses"' --set 'analysis.step_norm="rms"' --set output.shapes=0 \
+    >"$tmp/wvp.out" 2>&1; sp=$?
+"$bin" run "$tmp/wv.cfg" -q -o "$tmp/wvf" --set 'analysis.flat_start="multipliers"' --set defaults.modes=2 \
+    --set 'solver.formulation="folds"' --set 'analysis.step_norm="rms"' --set analysis.stability=false \
+    --set output.shapes=0 >"$tmp/wvf.out" 2>&1; sf=$?
+closed() { awk -F'\t' -v st="$2" '/^#/ {next} !h {for (k = 1; k <= NF; k++) c[$k] = k; h = 1; next}
+    {n++; if ($c["residual_rot"] > 1e-10 || $c["residual_tra"] > 1e-12 || (st && $c["stable"] != 1)) bad++}
+    END {print n + 0, bad + 0}' "$1" 2>/dev/null; }
+cp_=$(closed "$tmp/wvp/branch.tsv" 1); cf=$(closed "$tmp/wvf/branch.tsv" 0)
+d=$(diff_states "$(state "$tmp/wvp/branch.tsv")" "$(state "$tmp/wvf/branch.tsv")")
+if [ $s1 = 3 ] && [ "$(wc -l <"$tmp/wv1.out")" -eq 1 ] && grep -q 'try --set defaults.modes=2' "$tmp/wv1.out" &&
+   [ $sp = 0 ] && [ $sf = 0 ] && [ "${cp_#* }" = 0 ] && [ "${cf#* }" = 0 ] &&
+   [ "$(state "$tmp/wvp/branch.tsv" | cut -f1)" = 1 ] && [ "$(state "$tmp/wvf/branch.tsv" | cut -f1)" = 1 ] &&
+   awk -v d="$d" 'BEGIN {exit !(d != "mismatch" && d + 0 <= 1e-8)}'; then
+    ok "wavy Miura: K = 1 stops naming defaults.modes = 2; K = 2 folds to p = 1 (${cp_% *} points in poses, stable, ${cf% *} in folds, all closed), formulations equal to $d"
+else
+    nok "wavy Miura: K = 1 exit $s1, K = 2 exit $sp (poses) $sf (folds), points and unclosed '$cp_' '$cf', difference $d"
+    head -c 400 "$tmp/wv1.out" | sed 's/^/#   /'; tail -1 "$tmp/wvp.out" "$tmp/wvf.out" | sed 's/^/#   /'
 fi
