@@ -424,11 +424,17 @@ int sf_start_flat(sf_equil *q, const double *y0, double p0, int dir, const sf_st
     }
     if (followed < 0) {
         info->verdict = SF_FOLD_UNDECIDED;
+        char how[160];
+        if (isfinite(r.gres))
+            snprintf(how, sizeof how, "loop residual %.2g after %d Newton steps", r.gres, info->newton);
+        else
+            snprintf(how, sizeof how, "after %d Newton steps its state left the range where the "
+                     "equations are defined", info->newton);
         rc = sf_fail(err, SF_ENUMERIC, "%s: flat start: no closed state near the flat sheet along "
-                     "the driving's response (loop residual %.2g after %d Newton steps)%s; the "
+                     "the driving's response (%s)%s; the "
                      "sheet may not fold with rigid faces and exact loop closure: try "
                      "`smoothfold check` and solver.constraints = \"penalty\" (compliant loops)",
-                     path, r.gres, info->newton, !censused ? "" : mb.probed ?
+                     path, how, !censused ? "" : mb.probed ?
                      ", nor from the closed states that `check`'s mobility analysis finds" :
                      " (the sheet is too large for the whole sheet's second-order analysis)");
         goto done;

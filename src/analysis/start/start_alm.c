@@ -267,14 +267,16 @@ int fs_alm(fs_kkt *k, const fs_control *c, double *y, double *mu, int branch, do
     for (int i = 0; i < nx; i++) lh[i] = c->row ? c->row[i] * k->S[i] / beta : 0.0;
     memcpy(q->lam_anchor, y + nx, sizeof(double) * (size_t)m);
     double eps = c->eps0 > 0.0 ? c->eps0 : EPS_FIRST, gprev = INFINITY, shift = 0.0;
-    int saddles = 0, stall = 0;
+    int saddles = 0, stall = 0, stuck = 0;
     for (int outer = 0; rc == SF_OK; outer++) {
         q->eps_anchor = eps;
         res->outer = outer + 1;
         int conv = 0;
         for (int it = 0; it < INNER_MAX && res->newton < NEWTON_MAX; it++) {
             double rrow, rn;
-            if (residual(k, c, y, *mu, R, &rrow, &rn)) { rc = SF_ENUMERIC; break; }
+            /* equations that cannot be evaluated at the iterate (a pose
+             * turned beyond the rotation chart): blocked too */
+            if (residual(k, c, y, *mu, R, &rrow, &rn)) { stuck = 1; break; }
             if (c->kind != FS_FIXED) rn = fmax(rn, fabs(rrow) / beta);
             /* inner tolerance: loose while the rows are far from closed */
             double itol = fmax(tol, fmin(1e-6, 1e-2 * gprev));
@@ -282,7 +284,19 @@ int fs_alm(fs_kkt *k, const fs_control *c, double *y, double *mu, int branch, do
             if (c->kind == FS_PARAM)   /* the gradient of Psi at x */
                 for (int i = 0; i < nx; i++) lh[i] = k->Fp[i] * k->S[i] / beta;
             int shifted = 0;
-            if ((rc = factor_inertia(k, c, lh, a, d, &shift, &shifted, err))) break;
+            if ((rc = factor_inertia(k, c, lh, a, d, &shift, &shifted, err))) {
+                /* no shift makes the subproblem convex here: the
+                 * constraints' curvature, weighted by multipliers that grow
+                 * like 1 / eps where the rows cannot close, exceeds any
+                 * shift (the crane at K = 2: Hessian entries of 1e13).  The
+                 * minimisation is blocked, as when eps reaches its floor. */
+                if (rc == SF_ENUMERIC) {
+                    sf_error_clear(err);
+                    rc = SF_OK;
+                    stuck = 1;
+                }
+                break;
+            }
             if (rn <= itol) {
                 if (!shifted) { conv = 1; break; }
                 /* a saddle: leave it along negative curvature */
@@ -345,12 +359,17 @@ int fs_alm(fs_kkt *k, const fs_control *c, double *y, double *mu, int branch, do
         }
         if (rc) break;
         /* the constraint residual (scaled rows), with the anchor moved */
-        if (rows_at(k, c, y, *mu, ya, F)) { rc = SF_ENUMERIC; break; }
+        if (rows_at(k, c, y, *mu, ya, F)) {
+            res->gres = INFINITY;
+            res->blocked = 1;
+            break;
+        }
         double gres = 0.0;
         for (int r = 0; r < m; r++) gres = fmax(gres, fabs(F[nx + r] * q->fscale[nx + r]));
         res->gres = gres;
         res->eps = eps;
         memcpy(q->lam_anchor, y + nx, sizeof(double) * (size_t)m);
+        if (stuck) { res->blocked = 1; break; }
         /* closed to half the Newton tolerance: the engine takes the point
          * as it is (where rows are nearly dependent its corrector does not
          * close them further from ten times the tolerance, measured on the
