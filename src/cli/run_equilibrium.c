@@ -261,6 +261,11 @@ static int start_by_multipliers(run_ctx *r, double *y0, double start, double end
     free(y1);
     free(t1);
     if (rc) {
+        /* every failure of the start carries its line; an empty one would
+         * end the run as a success after the flat point */
+        if (!err->code)
+            sf_fail(err, rc, "%s: flat start: failed without a diagnosis (please report the study)",
+                    s->path);
         hint_modes(r);
         return *ret = rc, 1;
     }
