@@ -35,8 +35,9 @@
 #  8: Rabbit Ear's wavy Miura (tests/public/rabbit-ear/wavy-miura-no-faces.fold,
 #     as imported: K = 1): no closed state, exit 3 in one line that
 #     names defaults.modes = 2 (its 294 loop rows outnumber its 224 fold
-#     coordinates); with defaults.modes = 2 it folds to p = 1 in face
-#     poses and in fold coordinates, every point closed (rotation rows
+#     coordinates; `check` says so in a note, not at K = 2); with
+#     defaults.modes = 2 it folds to p = 1 in face poses and in fold
+#     coordinates, every point closed (rotation rows
 #     1e-10, translation rows 1e-12 m), stable at every point (poses),
 #     and the two formulations end in the same state (p, probe, energy,
 #     every fold angle to 1e-8).
@@ -188,11 +189,14 @@ closed() { awk -F'\t' -v st="$2" '/^#/ {next} !h {for (k = 1; k <= NF; k++) c[$k
     END {print n + 0, bad + 0}' "$1" 2>/dev/null; }
 cp_=$(closed "$tmp/wvp/branch.tsv" 1); cf=$(closed "$tmp/wvf/branch.tsv" 0)
 d=$(diff_states "$(state "$tmp/wvp/branch.tsv")" "$(state "$tmp/wvf/branch.tsv")")
+"$bin" check "$tmp/wv.cfg" >"$tmp/wvc1.out" 2>&1
+"$bin" check "$tmp/wv.cfg" --set defaults.modes=2 >"$tmp/wvc2.out" 2>&1
 if [ $s1 = 3 ] && [ "$(wc -l <"$tmp/wv1.out")" -eq 1 ] && grep -q 'try --set defaults.modes=2' "$tmp/wv1.out" &&
+   grep -q '^note: the loops have 294 rows for 224 fold coordinates' "$tmp/wvc1.out" && ! grep -q '^note: the loops' "$tmp/wvc2.out" &&
    [ $sp = 0 ] && [ $sf = 0 ] && [ "${cp_#* }" = 0 ] && [ "${cf#* }" = 0 ] &&
    [ "$(state "$tmp/wvp/branch.tsv" | cut -f1)" = 1 ] && [ "$(state "$tmp/wvf/branch.tsv" | cut -f1)" = 1 ] &&
    awk -v d="$d" 'BEGIN {exit !(d != "mismatch" && d + 0 <= 1e-8)}'; then
-    ok "wavy Miura: K = 1 stops naming defaults.modes = 2; K = 2 folds to p = 1 (${cp_% *} points in poses, stable, ${cf% *} in folds, all closed), formulations equal to $d"
+    ok "wavy Miura: K = 1 stops naming defaults.modes = 2 (run and check); K = 2 folds to p = 1 (${cp_% *} points in poses, stable, ${cf% *} in folds, all closed), formulations equal to $d"
 else
     nok "wavy Miura: K = 1 exit $s1, K = 2 exit $sp (poses) $sf (folds), points and unclosed '$cp_' '$cf', difference $d"
     head -c 400 "$tmp/wv1.out" | sed 's/^/#   /'; tail -1 "$tmp/wvp.out" "$tmp/wvf.out" | sed 's/^/#   /'

@@ -59,6 +59,12 @@ static void print_mobility_verdict(const sf_scene *sc, const sf_mobility *mb)
         sf_mobility_describe(&sc->model, mb, what, sizeof what);
         printf("warning: %s\n", what);
     }
+    int rows, coords, coords2, k1;
+    if ((!mb->probed || mb->dof < 0) &&
+        sf_mobility_overcounted(&sc->model, &rows, &coords, &coords2, &k1))
+        printf("note: the loops have %d rows for %d fold coordinates (%d folds with at most 1 shape "
+               "mode), so a folded state closes only where rows are dependent; if `run` stops at the "
+               "flat sheet, try --set defaults.modes=2 (%d coordinates)\n", rows, coords, k1, coords2);
 }
 
 /* Up to max names of the vertices whose own loops give verdict dof

@@ -19,25 +19,16 @@
 #include "study.h"
 
 /* A start that found no closed state (SF_ENUMERIC) on a sheet whose loop
- * rows outnumber its fold coordinates because folds have one shape mode:
- * each interior vertex closes with 6 rows, and a fold with K = 1 has 2
- * coordinates, so a sheet of degree-4 vertices (about 2 folds each) has
- * 6 rows for 4 coordinates a vertex, and a closed folded state exists only
- * where the rows happen to be dependent (docs/design/model.md, "What the
- * near-null space is").  With K = 2 (3 coordinates) the counts balance.
- * The hint is appended to the error's line. */
+ * rows outnumber its fold coordinates because folds have one shape mode
+ * (sf_mobility_overcounted): the remedy, appended to the error's line. */
 static void hint_modes(run_ctx *r)
 {
     sf_error *err = r->err;
     const sf_model *m = r->eq.m;
-    if (err->code != SF_ENUMERIC || !m || !m->topo) return;
-    int rows = 6 * m->topo->nivertices, coords = 0, coords2 = 0, k1 = 0;
-    for (int f = 0; f < m->nfolds; f++) {
-        coords += m->qn[f];
-        coords2 += m->qn[f] > 3 ? m->qn[f] : 3;
-        k1 += m->qn[f] <= 2;
-    }
-    if (rows <= coords || k1 == 0) return;
+    int rows, coords, coords2, k1;
+    if (err->code != SF_ENUMERIC || !m || !m->topo ||
+        !sf_mobility_overcounted(m, &rows, &coords, &coords2, &k1))
+        return;
     size_t n = strlen(err->msg);
     snprintf(err->msg + n, sizeof err->msg - n, "; the loops have %d rows for %d fold coordinates "
              "(%d folds with at most 1 shape mode): with defaults.modes = 2 (%d coordinates) they "

@@ -155,6 +155,17 @@ int sf_mobility_states(const sf_model *m, int want, sf_mobility *mb, sf_error *e
 /* Is the whole sheet, or any vertex, without motion? */
 int sf_mobility_locked(const sf_mobility *mb);
 
+/* The count that keeps a sheet of folds with one shape mode from closing:
+ * each interior vertex closes with 6 rows (*rows in all), a fold with K
+ * shape modes has K + 1 coordinates (*coords), so a sheet of degree-4
+ * vertices with K = 1 (about 2 folds a vertex) has 6 rows for 4
+ * coordinates a vertex and closes only where its rows happen to be
+ * dependent; *coords2 counts the coordinates with every fold given K >= 2,
+ * *k1 the folds with K <= 1.  Returns 1 when the rows outnumber the
+ * coordinates and some fold has K <= 1 (docs/guides/importing-patterns.md,
+ * "shape modes"), else 0. */
+int sf_mobility_overcounted(const sf_model *m, int *rows, int *coords, int *coords2, int *k1);
+
 /* One line (no newline) naming what is locked, e.g. "the loop constraints
  * leave the sheet no motion at the flat state: vertex v7 (degree 4, 4
  * coordinates for 6 loop equations) locks its folds"; "" when nothing is. */
