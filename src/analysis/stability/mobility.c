@@ -935,9 +935,9 @@ int sf_mobility_locked(const sf_mobility *mb)
 int sf_mobility_overcounted(const sf_model *m, int *rows, int *coords, int *coords2, int *k1)
 {
     *rows = 6 * m->topo->nivertices;
-    *coords = *coords2 = *k1 = 0;
+    *coords = m->nq;
+    *coords2 = *k1 = 0;
     for (int f = 0; f < m->nfolds; f++) {
-        *coords += m->qn[f];
         *coords2 += m->qn[f] > 3 ? m->qn[f] : 3;
         *k1 += m->qn[f] <= 2;
     }

@@ -187,15 +187,13 @@ int sf_validity_create(const sf_model *m, int samples, sf_validity **out, sf_err
     /* a band that ends at a vertex on the outline leaves the same kind of
      * gap there, between its set-back end and the faces either side: the
      * disc about that vertex through the band's two corners at that end */
-    int nint = t->nivertices;
     for (int f = 0; f < m->nfolds; f++) {
         const sf_fold_geom *fg = &t->folds[f];
+        const sf_fold_def *d = &m->study->folds[f];
         for (int e = 0; e < 2; e++) {
             const double *c = e ? fg->b : fg->a;
-            int ca = e ? 1 : 0, cb = e ? 2 : 3, interior = 0;
-            for (int r = 0; r < nint && !interior; r++)
-                interior = hypot(v->reg[r].c[0] - c[0], v->reg[r].c[1] - c[1]) <= 1e-12 * t->size;
-            if (interior) continue;
+            int ca = e ? 1 : 0, cb = e ? 2 : 3;
+            if (t->ivertex_of[e ? d->b : d->a] >= 0) continue;   /* an interior vertex's region */
             vregion *g = &v->reg[v->nreg++];
             g->c[0] = c[0];
             g->c[1] = c[1];
