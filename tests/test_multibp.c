@@ -150,9 +150,8 @@ static void test_library(void **state)
 static void test_run(void **state)
 {
     (void)state;
-    const char *b = getenv("SF_BUILDDIR");
     char dir[1200], path[1300];
-    snprintf(dir, sizeof dir, "%s/tests/multibp-out", b ? b : ".");
+    tsv_out_dir(dir, sizeof dir, "multibp-out");
     tsv_run("square4-inplane", dir, "--set analysis.end=0.45");
     snprintf(path, sizeof path, "%s/branch.tsv", dir);
     tsv t;

@@ -59,8 +59,9 @@ static void tsv_all_finite(const tsv *t)
 /* Run a study; the output directory is returned in dir. */
 static void run_study(const char *study, char *dir, size_t n, const char *extra)
 {
-    const char *b = getenv("SF_BUILDDIR");
-    snprintf(dir, n, "%s/tests/stab-out/%s%s", b ? b : ".", study, extra && extra[0] ? "-x" : "");
+    char top[600];
+    tsv_out_dir(top, sizeof top, "stab-out");
+    snprintf(dir, n, "%s/%s%s", top, study, extra && extra[0] ? "-x" : "");
     tsv_run(study, dir, extra);
 }
 

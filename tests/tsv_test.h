@@ -112,6 +112,17 @@ static inline void tsv_free(tsv *t)
     memset(t, 0, sizeof *t);
 }
 
+/* BUILDDIR/tests/NAME into dir, with "-KERNEL" appended when
+ * OPENBLAS_CORETYPE is set: test_kernels.sh runs these tests again under
+ * another kernel while `make -j` may still run them under the default,
+ * and the two must not write one directory. */
+static inline void tsv_out_dir(char *dir, size_t n, const char *name)
+{
+    const char *b = getenv("SF_BUILDDIR");
+    const char *k = getenv("OPENBLAS_CORETYPE");
+    snprintf(dir, n, "%s/tests/%s%s%s", b ? b : ".", name, k && k[0] ? "-" : "", k && k[0] ? k : "");
+}
+
 /* Run `smoothfold run studies/STUDY.cfg -o DIR -q EXTRA` (DIR emptied
  * first); fails the test on a non-zero exit. */
 static inline void tsv_run(const char *study, const char *dir, const char *extra)
