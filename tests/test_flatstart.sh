@@ -222,7 +222,7 @@ fi
 # 15: the same Miura sheet at 0.01 N in face poses: the same checks, with
 # a positive lowest eigenvalue from p = 0.15 on (at the first two points,
 # fold angles below 5e-5 rad, the dense method counts constraint rows at
-# its rank cut: Morse index 4, then 1; docs/flatstart.md), and the same
+# its rank cut: Morse index 6 at both; docs/flatstart.md), and the same
 # state at p = 1 as in fold coordinates.  Not to 1e-9: on the
 # degenerate ray a residual r moves the state by about r / a^2 (a = 2e-4
 # rad the fold angles at p = 1), and the two formulations differ by

@@ -5,6 +5,7 @@
 #include "ldlt.h"
 #include "study.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,6 +25,20 @@ extern void dgemm_(const char *ta, const char *tb, const int *m, const int *n, c
 /* Singular values (or |R_ii|) below RANK_TOL times the largest count as
  * zero when the rank of the row-normalised constraint matrix is decided. */
 #define RANK_TOL 1e-9
+/* Face poses, where no self-stress certificate (stab_cert.c) looks at
+ * the rows below the cut: the numerical rank is put at the widest gap of
+ * the singular values below RANK_WEAK of the largest (a drop of at least
+ * RANK_GAP between neighbours), so that weak rows, exact loop conditions
+ * nearly dependent on the others, count as long as they stand clear of
+ * rounding (DBL_EPSILON times the size; below it nothing counts), and
+ * never fewer than RANK_TOL keeps.  On the 2x2 Miura's
+ * straight-line branch under a tip load 17 singular values fall evenly
+ * from 2e-6 to 4e-12 of the largest, each growing in proportion to the
+ * folding, then one of 1e-14 to 2e-13: the cut at 1e-9 kept a number of
+ * the 17 that changed with the fold angles' last digits, and the verdict
+ * with it (eigenvalue -0.11 or +0.023 at the same state). */
+#define RANK_WEAK 1e-6
+#define RANK_GAP 30.0
 /* Rows shorter than this times the longest are zero rows (e.g. loop rows
  * of second order at the flat state). */
 #define ZERO_ROW 1e-13
@@ -152,7 +167,7 @@ static void normalised_rows(const sf_stab *st, double *A)
 }
 
 /* Dense: Z from the SVD of C^T, H_c = Z^T HL Z, all eigenvalues. */
-static int eval_dense(sf_stab *st, sf_error *err)
+static int eval_dense(sf_stab *st, int at_gap, sf_error *err)
 {
     int nq = st->nq, nc = st->ncon, info = 0;
     sf_stab_result *R = &st->res;
@@ -184,6 +199,17 @@ static int eval_dense(sf_stab *st, sf_error *err)
         int mn = nq < nc ? nq : nc;
         for (int i = 0; i < mn; i++)
             if (S[i] > RANK_TOL * S[0] && S[0] > 0) rank++;
+        if (at_gap && S[0] > 0) {
+            /* rounding of the SVD: about eps times the size times S[0] */
+            double floor = DBL_EPSILON * (nq > nc ? nq : nc) * S[0], wide = RANK_GAP;
+            int at = 0;
+            for (int i = 0; i < mn; i++) {
+                if (!(S[i] <= RANK_WEAK * S[0]) || !(S[i] > floor)) continue;
+                double g = S[i] / fmax(i + 1 < mn ? S[i + 1] : 0.0, floor);
+                if (g >= wide) { wide = g; at = i + 1; }
+            }
+            if (at > rank) rank = at;   /* never fewer rows than RANK_TOL keeps */
+        }
         Z = U + (size_t)rank * nq;
     } else {
         memset(U, 0, sizeof(double) * nq * nq);
@@ -442,7 +468,7 @@ int sf_stab_eval(sf_stab *st, sf_equil *q, const double *y, double p, sf_error *
     }
     st->res.certified = 0;
     st->res.cert_mu = st->res.cert_eig = 0.0;
-    int rc = eval_dense(st, err);
+    int rc = eval_dense(st, q->pz != NULL, err);
     st->res.status = SF_SSTAB_OK;
     st->res.attempts = 0;
     st->res.reason[0] = '\0';
