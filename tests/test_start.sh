@@ -224,7 +224,7 @@ done
     --set 'analysis.flat_start="multipliers"' --set 'solver.formulation="poses"' \
     --set 'analysis.eigensolver="inertia"' >"$tmp/mL-in.out" 2>&1; si=$?
 "$bin" run "$tmp/mL.cfg" -q -o "$tmp/mL-lim" --set analysis.end=0.2 --set output.shapes=0 \
-    --set analysis.stability=false >"$tmp/mL-lim.out" 2>&1; sl=$?
+    --set 'analysis.flat_start="limit"' --set analysis.stability=false >"$tmp/mL-lim.out" 2>&1; sl=$?
 # points, unclosed, unstable or rising points, tip uz at the first point and at the end
 pathinfo() { awk -F'\t' '/^#/ {next}
     !h {for (k = 1; k <= NF; k++) c[$k] = k; h = 1; next}
