@@ -234,12 +234,14 @@ pathinfo() { awk -F'\t' '/^#/ {next}
     END {printf "%d %d %.6g %.6g", n, bad + 0, u1, u}' "$1" 2>/dev/null; }
 stab_col() { awk -F'\t' '/^#/ {next} !h {for (k = 1; k <= NF; k++) c[$k] = k; h = 1; next} {printf "%s", $c["stable"]}' "$1" 2>/dev/null; }
 set -- $(pathinfo "$tmp/mL-sum/branch.tsv") $(pathinfo "$tmp/mL-rms/branch.tsv")
-em=$(awk -F'\t' '/^#/ {next} !h {for (k = 1; k <= NF; k++) c[$k] = k; h = 1; next} {e = $c["energy"]} END {print e}' "$tmp/mL-sum/branch.tsv" 2>/dev/null)
-el=$(awk -F'\t' '/^#/ {next} !h {for (k = 1; k <= NF; k++) c[$k] = k; h = 1; next} {e = $c["energy"]; p = $c["p"]} END {print (p == 0.2 ? e : "")}' "$tmp/mL-lim/branch.tsv" 2>/dev/null)
+# the last row's energy, empty unless the path reached p = 0.2
+energy_at_end() { awk -F'\t' '/^#/ {next} !h {for (k = 1; k <= NF; k++) c[$k] = k; h = 1; next}
+    {e = $c["energy"]; p = $c["p"]} END {print (p == 0.2 ? e : "")}' "$1" 2>/dev/null; }
+em=$(energy_at_end "$tmp/mL-sum/branch.tsv"); el=$(energy_at_end "$tmp/mL-lim/branch.tsv")
 if [ "$(cat "$tmp/mL-sum.st")" = 0 ] && [ "$(cat "$tmp/mL-rms.st")" = 0 ] && [ $si = 0 ] && [ $sl = 0 ] &&
    [ $# -eq 8 ] && [ "$1" -ge 3 ] && [ "$2" = 0 ] && [ "$5" -ge 3 ] && [ "$6" = 0 ] &&
    [ "$(stab_col "$tmp/mL-sum/branch.tsv")" = "$(stab_col "$tmp/mL-in/branch.tsv")" ] &&
-   awk -v em="$em" -v el="$el" 'BEGIN {exit !(el != "" && em < el && em < 0)}'; then
+   awk -v em="$em" -v el="$el" 'BEGIN {exit !(em != "" && el != "" && em < el && em < 0)}'; then
     ok "2x2 Miura, 1 N tip load, poses: stable at every point with either step norm ($1 and $5 points) and by the inertia method, energy at p = 0.2 $em J below the rigid Miura branch's $el J, tip uz $3 to $4 m"
 else
     nok "2x2 Miura 1 N in poses: exits $(cat "$tmp/mL-sum.st") $(cat "$tmp/mL-rms.st") $si $sl, paths '$*', energies '$em' '$el'"
