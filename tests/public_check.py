@@ -4,14 +4,49 @@
   public_check.py fold FILE.fold [SCALE]   what the FOLD file says: total length
         of its mountain, valley and unassigned edges (times SCALE), its number
         of F edges, of M and V edges, the larger side of its bounding box (read
-        with Python's json, not smoothfold; the creasePattern frame)
+        with Python's json, not smoothfold; the creasePattern frame); the edges
+        with the same face on both sides (found by tracing the faces of the
+        graph of B, M, V and U edges) are not counted: rigid faces keep them
+        flat and import leaves them out
   public_check.py cfg FILE.cfg             the same figures of a study written by
         smoothfold import (folds, facets, their lengths), and its bounding box
   public_check.py same A.cfg B.cfg TOL     the two studies have the same folds
         (ends within TOL, assignments) and the same facet edges
+  public_check.py samefolds A.cfg B.cfg TOL   the same folds, facets not compared
 
 Prints one line of numbers, or exits non-zero with the difference."""
 import json, math, re, sys
+
+
+def same_face_edges(xy, ev, ea):
+    """The edges of the B, M, V, U graph whose two sides trace one face:
+    at each vertex the edges sorted by angle, a face walked by turning to
+    the next edge clockwise (in the plane of the two widest axes)."""
+    axes = sorted(range(len(xy[0])), key=lambda k: -(max(p[k] for p in xy) - min(p[k] for p in xy)))[:2]
+    pt = [(p[axes[0]], p[axes[1]]) for p in xy]
+    edges = [e for e, s in enumerate(ea) if s.upper() in 'BMVU']
+    out = {}
+    for e in edges:
+        a, b = ev[e]
+        out.setdefault(a, []).append((b, e))
+        out.setdefault(b, []).append((a, e))
+    for v in out:
+        out[v].sort(key=lambda t: math.atan2(pt[t[0]][1] - pt[v][1], pt[t[0]][0] - pt[v][0]))
+    face = {}
+    nface = 0
+    for e in edges:
+        for h in ((ev[e][0], ev[e][1], e), (ev[e][1], ev[e][0], e)):
+            if h in face:
+                continue
+            u, v, ee = h
+            while (u, v, ee) not in face:
+                face[(u, v, ee)] = nface
+                ring = out[v]
+                i = next(k for k, t in enumerate(ring) if t == (u, ee))
+                w, f = ring[i - 1]   # the next edge clockwise from the way back
+                u, v, ee = v, w, f
+            nface += 1
+    return {e for e in edges if face[(ev[e][0], ev[e][1], e)] == face[(ev[e][1], ev[e][0], e)]}
 
 
 def fold_figures(path, scale):
@@ -27,10 +62,11 @@ def fold_figures(path, scale):
     if ea is None:   # FOLD makes it optional: the angles' signs say M or V
         fa = frame.get('edges_foldAngle', d.get('edges_foldAngle'))
         ea = ['V' if a and a > 0 else 'M' if a and a < 0 else 'B' for a in fa]
+    hanging = same_face_edges(xy, ev, ea)
     length, nf, nmv = 0.0, 0, 0
-    for (a, b), s in zip(ev, ea):
+    for e, ((a, b), s) in enumerate(zip(ev, ea)):
         s = s.upper()
-        if s in 'MVU':
+        if s in 'MVU' and e not in hanging:
             length += math.dist(xy[a], xy[b])
             nmv += s in 'MV'
         nf += s == 'F'
@@ -66,7 +102,7 @@ def key(a, b, tol):
     return tuple(sorted((r(a), r(b))))
 
 
-def same(pa, pb, tol):
+def same(pa, pb, tol, facets=True):
     _, fa, ca = read_cfg(pa)
     _, fb, cb = read_cfg(pb)
     sa = sorted((key(a, b, tol), s) for a, b, s in fa)
@@ -74,8 +110,8 @@ def same(pa, pb, tol):
     if sa != sb:
         diff = set(sa) ^ set(sb)
         sys.exit('folds differ: %d in A, %d in B, e.g. %s' % (len(sa), len(sb), sorted(diff)[:2]))
-    ka = sorted(key(a, b, tol) for a, b in ca)
-    kb = sorted(key(a, b, tol) for a, b in cb)
+    ka = sorted(key(a, b, tol) for a, b in ca) if facets else []
+    kb = sorted(key(a, b, tol) for a, b in cb) if facets else []
     if ka != kb:
         sys.exit('facet edges differ: %d in A, %d in B' % (len(ka), len(kb)))
     print('%d folds %d facets' % (len(sa), len(ka)))
@@ -89,3 +125,5 @@ if __name__ == '__main__':
         cfg_figures(sys.argv[2])
     elif cmd == 'same':
         same(sys.argv[2], sys.argv[3], float(sys.argv[4]))
+    elif cmd == 'samefolds':
+        same(sys.argv[2], sys.argv[3], float(sys.argv[4]), facets=False)

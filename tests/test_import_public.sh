@@ -18,7 +18,7 @@ py=$(command -v python3)
 n=$(grep -vc '^#' "$man")
 nsvg=$(grep -v '^#' "$man" | awk -F'\t' '$1 ~ /\.svg$/ && $3 == "ok"' | wc -l)
 nfold=$(grep -v '^#' "$man" | awk -F'\t' '$1 ~ /\.fold(\.gz)?$/ && $3 == "ok" && $2 == "-"' | wc -l)
-echo "1..$((n + nsvg + 2 * nfold + 7))"
+echo "1..$((n + nsvg + 2 * nfold + 9))"
 grep -v '^#' "$man" > "$tmp/manifest"   # read below without a pipe: ok/nok count on
 while IFS='	' read -r file opts want; do
     f="$src/tests/public/$file"
@@ -68,6 +68,20 @@ while IFS='	' read -r file opts want; do
         else nok "$file: study -> export -> import: $r"; sed 's/^/#   /' "$tmp/err" | head -3; fi;;
     esac
 done < "$tmp/manifest"
+# Rabbit Ear's backslash-07 draws backslash-10's sheet with CSS
+# transforms in a style sheet (its own tests expect the same graph of
+# both): the same valley fold, in the same place
+"$bin" import "$src/tests/public/rabbit-ear/backslash-07.svg" -o "$tmp/b7.cfg" >/dev/null 2>&1
+"$bin" import "$src/tests/public/rabbit-ear/backslash-10.svg" -o "$tmp/b10.cfg" >/dev/null 2>&1
+if r=$("$py" "$src/tests/public_check.py" samefolds "$tmp/b7.cfg" "$tmp/b10.cfg" 1e-12 2>&1) && [ "${r%% *}" = 1 ]; then
+    ok "backslash-07.svg (CSS transform: scale, matrix) has backslash-10.svg's fold: $r"
+else nok "backslash-07.svg against backslash-10.svg: $r"; fi
+# folds that end inside a face are left out, and import says so
+"$bin" import "$src/tests/public/rabbit-ear/separated-parallel-edges.fold" -o "$tmp/sp.cfg" > "$tmp/out" 2>&1
+if grep -q "separated-parallel-edges.fold: 4 folds left out: they end inside a face, where rigid faces keep them flat" "$tmp/out" &&
+   grep -q "^# 4 folds left out" "$tmp/sp.cfg"; then
+    ok "separated-parallel-edges.fold: the 4 folds that end inside a face are named on stdout and in the study"
+else nok "separated-parallel-edges.fold: note"; sed 's/^/#   /' "$tmp/out"; fi
 # units and the fold percent
 "$bin" import "$src/tests/public/rabbit-ear/crane-cp.fold" --size=30cm --fold-percent=60 -o "$tmp/s.cfg" > "$tmp/out" 2>&1
 if grep -q "crane-cp.fold: FOLD crease pattern, 300 x 300 mm (scaled to 300 mm across (--size))" "$tmp/out" &&

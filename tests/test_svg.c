@@ -101,6 +101,20 @@ static void test_transforms(void **state)
     CHECK_CLOSE(y, 2 + 4, 1e-12, "y of skewX then matrix");
     svg_xf_identity(&t);
     assert_int_equal(svg_parse_transform("rotate(1 2)", &t, why, sizeof why), -1);
+    /* CSS's units: a quarter turn in deg, rad and turn, translate in px */
+    const char *quarter[] = {"translate(3px, 4px) rotate(90deg)", "translate(3px,4px) rotate(1.5707963267948966rad)",
+                             "translate(3px 4px) rotate(0.25turn)"};
+    for (int i = 0; i < 3; i++) {
+        svg_xf_identity(&t);
+        assert_int_equal(svg_parse_transform(quarter[i], &t, why, sizeof why), 0);
+        svg_xf_apply(&t, 1, 0, &x, &y);
+        CHECK_CLOSE(x, 3, 1e-12, quarter[i]);
+        CHECK_CLOSE(y, 5, 1e-12, quarter[i]);
+    }
+    svg_xf_identity(&t);
+    assert_int_equal(svg_parse_transform("translate(10%)", &t, why, sizeof why), -1);
+    assert_non_null(strstr(why, "unit '%)' not read"));
+    assert_int_equal(svg_parse_transform("rotate(90px)", &t, why, sizeof why), -1);
     /* lengths: mm is 1e-3 m, px no physical size */
     double v, m;
     assert_int_equal(svg_length("210mm", &v, &m), 0);

@@ -44,6 +44,28 @@ static void size_text(const sf_import_info *info, char *buf, size_t n)
     else snprintf(buf, n, "%.4g x %.4g mm", w, h);
 }
 
+/* Bands that fit at no width: where two points of the file nearly
+ * coincide (an edge shorter than 1e-3 of the sheet), merging them is what
+ * to try */
+static void near_points_hint(const sf_cpattern *cp, const sf_import_opts *io, const char *format, sf_error *err)
+{
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, lmin = INFINITY;
+    for (int i = 0; i < cp->nv; i++)
+        for (int k = 0; k < 2; k++) { lo[k] = fmin(lo[k], cp->v[i].x[k]); hi[k] = fmax(hi[k], cp->v[i].x[k]); }
+    for (int e = 0; e < cp->ne; e++)
+        lmin = fmin(lmin, hypot(cp->v[cp->e[e].b].x[0] - cp->v[cp->e[e].a].x[0],
+                                cp->v[cp->e[e].b].x[1] - cp->v[cp->e[e].a].x[1]));
+    double span = fmax(hi[0] - lo[0], hi[1] - lo[1]), r = lmin / span;
+    if (!(r < 1e-3)) return;
+    size_t l = strlen(err->msg);
+    if (strcmp(format, "FOLD") == 0 && !io->planarize)
+        snprintf(err->msg + l, sizeof err->msg - l, "; its shortest edge is %.2g of the sheet across (points that nearly "
+                 "coincide): --planarize merges vertices within %g of it", r, io->merge);
+    else if (r < io->merge * 2)
+        snprintf(err->msg + l, sizeof err->msg - l, "; its shortest edge is %.2g of the sheet across (points that nearly "
+                 "coincide): --merge=%g merges ends farther apart", r, 2 * io->merge);
+}
+
 int sf_cmd_import(int argc, char **argv, const char *cmdline, const char *output,
                   const sf_import_opts *io, struct sf_cp_study_opts *so, int nset,
                   const char **sets, sf_error *err)
@@ -52,6 +74,24 @@ int sf_cmd_import(int argc, char **argv, const char *cmdline, const char *output
     sf_cpattern cp;
     sf_import_info info;
     if (sf_import_read(in, io, &cp, &info, err)) return err->code;
+    size_t olen = strlen(output);
+    int to_fold = olen >= 5 && strcmp(output + olen - 5, ".fold") == 0;
+    if (!to_fold) {   /* a study: folds that cannot turn with rigid faces are left out */
+        char what[200];
+        int nfold0 = 0, nd = sf_cp_drop_dangling(&cp, so->include_flat, what, sizeof what, err);
+        if (nd < 0) { sf_cp_free(&cp); return err->code; }
+        for (int e = 0; e < cp.ne; e++)
+            nfold0 += cp.e[e].assign != 'B' && (cp.e[e].assign != 'F' || so->include_flat);
+        if (nd > 0 && nfold0 == 0) {
+            sf_cp_free(&cp);
+            return sf_fail(err, SF_EINPUT, "%s: no fold separates two faces: the %d fold%s end%s inside a face "
+                           "(%s), where rigid faces keep %s flat", in, nd, nd > 1 ? "s" : "", nd > 1 ? "" : "s",
+                           what, nd > 1 ? "them" : "it");
+        }
+        if (nd > 0)
+            sf_import_note(&info, "%d fold%s left out: %s inside a face, where rigid faces keep %s flat (%s)", nd,
+                           nd > 1 ? "s" : "", nd > 1 ? "they end" : "it ends", nd > 1 ? "them" : "it", what);
+    }
     char name[64], hdr[2600], size[64];
     study_name(&cp, in, name, sizeof name);
     size_text(&info, size, sizeof size);
@@ -69,8 +109,7 @@ int sf_cmd_import(int argc, char **argv, const char *cmdline, const char *output
     for (int k = 0; k < info.nnotes && l < sizeof hdr; k++)
         l += (size_t)snprintf(hdr + l, sizeof hdr - l, "\n%s.", info.notes[k]);
     if (l < sizeof hdr) snprintf(hdr + l, sizeof hdr - l, "\n(docs/guides/importing-patterns.md, docs/reference/svg-format.md)");
-    size_t ol = strlen(output);
-    if (ol >= 5 && strcmp(output + ol - 5, ".fold") == 0) {
+    if (to_fold) {
         if (nset) { sf_cp_free(&cp); return sf_fail(err, SF_EINPUT, "import: --set applies to a study (-o S.cfg), not to FOLD output"); }
         if (!cp.title[0]) snprintf(cp.title, sizeof cp.title, "%s", name);
         rc = sf_fold_write_pattern(&cp, output, err);
@@ -78,6 +117,7 @@ int sf_cmd_import(int argc, char **argv, const char *cmdline, const char *output
         so->name = name;
         so->header = hdr;
         rc = sf_cp_write_study(&cp, so, output, nset, sets, err);
+        if (rc && strstr(err->msg, "did not fit either")) near_points_hint(&cp, io, info.format, err);
     }
     if (!rc) {
         /* what was read, the size first */

@@ -78,6 +78,15 @@ int sf_cp_outline(const sf_cpattern *cp, int **out, int *n, const char *where,
  * over a valley is an error).  Faces are dropped. */
 int sf_cp_planarize(sf_cpattern *cp, double tol, const char *where, sf_error *err);
 
+/* Folds that end inside a face, removed from cp (cp_dangling.c): the M, V
+ * and U edges (and F with flat_too) peeled from their free ends inwards,
+ * a free end being a vertex with no other fold or outline edge.  With
+ * rigid faces such a fold cannot turn, so the study without it has the
+ * same states.  Returns how many were removed (then cp's faces are
+ * dropped), a negative code on failure; what (when not NULL) gets the
+ * first three as "(x, y)-(x, y) mm". */
+int sf_cp_drop_dangling(sf_cpattern *cp, int flat_too, char *what, size_t nwhat, sf_error *err);
+
 /* outer[e] = 1 for the edges on the outer face of the pattern's graph (the
  * loop walked around it from its leftmost vertex), else 0. */
 int sf_cp_outer_edges(const sf_cpattern *cp, char *outer, sf_error *err);

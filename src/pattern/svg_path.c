@@ -118,6 +118,17 @@ int svg_parse_transform(const char *s, svg_xf *t, char *why, size_t nwhy)
                 snprintf(why, nwhy, "%s: bad argument list", fns[k].name);
                 return -1;
             }
+            /* CSS writes units: angles in deg (the attribute's), rad or
+             * turn, lengths in px (user units) */
+            int angle = k >= 3 && !(k == 3 && n > 0);
+            if (angle && strncmp(s, "deg", 3) == 0) s += 3;
+            else if (angle && strncmp(s, "rad", 3) == 0) { s += 3; v[n] *= 180 / M_PI; }
+            else if (angle && strncmp(s, "turn", 4) == 0) { s += 4; v[n] *= 360; }
+            else if (!angle && k != 0 && k != 2 && strncmp(s, "px", 2) == 0) s += 2;
+            else if (((*s | 32) >= 'a' && (*s | 32) <= 'z') || *s == '%') {
+                snprintf(why, nwhy, "%s: unit '%.6s' not read (deg, rad, turn, px)", fns[k].name, s);
+                return -1;
+            }
             n++;
             skip_sep(&s);
         }

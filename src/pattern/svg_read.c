@@ -134,16 +134,16 @@ static int rule_matches(const css_rule *ru, xmlNode *n)
 
 static int specificity(int kind) { return kind == 3 ? 100 : kind == 4 ? 11 : kind == 2 ? 10 : kind == 1 ? 1 : 0; }
 
-/* prop set on node n itself: style attribute, then style-sheet rules, then
- * the presentation attribute */
-static int own_value(const sv *r, xmlNode *n, const char *prop, char *out, size_t len)
+/* prop set on node n itself by CSS: its style attribute, then the
+ * style-sheet rule of highest specificity (the last of equals) */
+static int css_value(const sv *r, xmlNode *n, const char *prop, char *out, size_t len)
 {
     const char *st = attr(n, "style");
     if (st && decl_value(st, prop, out, len)) return 1;
     int best = -1, bo = -1;
     for (int i = 0; i < r->nrules; i++) {
         const css_rule *ru = &r->rules[i];
-        char tmp[128];
+        char tmp[512];
         if (!rule_matches(ru, n) || !decl_value(ru->decls, prop, tmp, sizeof tmp)) continue;
         int sp = specificity(ru->kind);
         if (sp > best || (sp == best && ru->order > bo)) {
@@ -152,7 +152,13 @@ static int own_value(const sv *r, xmlNode *n, const char *prop, char *out, size_
             snprintf(out, len, "%s", tmp);
         }
     }
-    if (best >= 0) return 1;
+    return best >= 0;
+}
+
+/* prop set on node n itself: CSS, then the presentation attribute */
+static int own_value(const sv *r, xmlNode *n, const char *prop, char *out, size_t len)
+{
+    if (css_value(r, n, prop, out, len)) return 1;
     const char *a = attr(n, prop);
     if (a) {
         while (*a == ' ') a++;
@@ -405,8 +411,11 @@ static int walk(sv *r, xmlNode *n, const svg_xf *parent, double opacity)
         char v[128], nm[80];
         if (own_value(r, n, "display", v, sizeof v) && strcmp(v, "none") == 0) { r->hidden++; continue; }
         svg_xf xf = *parent;
-        const char *tr = attr(n, "transform");
-        char why[160];
+        /* a CSS transform property overrides the attribute (CSS angles
+         * and lengths carry units: deg, rad, turn, px) */
+        char css_tr[512], why[160];
+        const char *tr = css_value(r, n, "transform", css_tr, sizeof css_tr) ? css_tr : attr(n, "transform");
+        if (tr && strcmp(tr, "none") == 0) tr = NULL;
         if (tr && svg_parse_transform(tr, &xf, why, sizeof why))
             return BADS("%s:%ld: %s: transform: %s", r->path, (long)xmlGetLineNo(n), el_name(n, nm, sizeof nm), why);
         double op = opacity * (own_value(r, n, "opacity", v, sizeof v) ? number_or(v, 1) : 1);
