@@ -18,7 +18,7 @@ py=$(command -v python3)
 n=$(grep -vc '^#' "$man")
 nsvg=$(grep -v '^#' "$man" | awk -F'\t' '$1 ~ /\.svg$/ && $3 == "ok"' | wc -l)
 nfold=$(grep -v '^#' "$man" | awk -F'\t' '$1 ~ /\.fold(\.gz)?$/ && $3 == "ok" && $2 == "-"' | wc -l)
-echo "1..$((n + nsvg + 2 * nfold + 9))"
+echo "1..$((n + nsvg + 2 * nfold + 10))"
 grep -v '^#' "$man" > "$tmp/manifest"   # read below without a pipe: ok/nok count on
 while IFS='	' read -r file opts want; do
     f="$src/tests/public/$file"
@@ -42,7 +42,7 @@ while IFS='	' read -r file opts want; do
     case $file in
     *.svg)
         # the round trip: SVG -> FOLD -> study against SVG -> study
-        if "$bin" import "$f" -o "$tmp/$b.rt.fold" >/dev/null 2>"$tmp/err" &&
+        if "$bin" import "$f" $opts -o "$tmp/$b.rt.fold" >/dev/null 2>"$tmp/err" &&
            "$bin" import "$tmp/$b.rt.fold" -o "$tmp/$b.rt.cfg" >/dev/null 2>>"$tmp/err" &&
            r=$("$py" "$src/tests/public_check.py" same "$tmp/$b.cfg" "$tmp/$b.rt.cfg" 2e-10 2>&1); then
             ok "$file: SVG -> FOLD -> study has the same $r"
@@ -82,6 +82,20 @@ if grep -q "separated-parallel-edges.fold: 4 folds left out: they end inside a f
    grep -q "^# 4 folds left out" "$tmp/sp.cfg"; then
     ok "separated-parallel-edges.fold: the 4 folds that end inside a face are named on stdout and in the study"
 else nok "separated-parallel-edges.fold: note"; sed 's/^/#   /' "$tmp/out"; fi
+# a file of two sheets (two bird bases, unit squares at (0, 0) and (2, 2)):
+# each --piece is one of them, scaled to 200 mm across on its own, with
+# half of the file's fold length and M and V edges and half its F edges
+set -- $("$py" "$src/tests/public_check.py" fold "$src/tests/public/rabbit-ear/two-bird-cp.fold" 0.2)
+flen=$1 nf=$2 nmv=$3
+pieces=""
+for k in 1 2; do
+    "$bin" import "$src/tests/public/rabbit-ear/two-bird-cp.fold" --piece=$k -o "$tmp/tb$k.cfg" >/dev/null 2>&1
+    pieces="$pieces $("$py" "$src/tests/public_check.py" cfg "$tmp/tb$k.cfg" 2>&1)"
+done
+if printf '%s\n' "$pieces" | awk -v L="$flen" -v F="$nf" -v MV="$nmv" '{ l = $1 + $7; f = $2 + $8; mv = $4 + $10 }
+        END { exit !(NF == 12 && $1 == $7 && $5 == 0.2 && $11 == 0.2 && l > 0 && (l - L) ^ 2 < 1e-20 && f == F && mv == MV) }'; then
+    ok "two-bird-cp.fold --piece=1 and 2: one bird base each, 200 mm across, together the file's fold length $flen m, $nmv M/V and $nf F edges"
+else nok "two-bird-cp.fold pieces: $pieces (file: length $flen, F $nf, M/V $nmv)"; fi
 # units and the fold percent
 "$bin" import "$src/tests/public/rabbit-ear/crane-cp.fold" --size=30cm --fold-percent=60 -o "$tmp/s.cfg" > "$tmp/out" 2>&1
 if grep -q "crane-cp.fold: FOLD crease pattern, 300 x 300 mm (scaled to 300 mm across (--size))" "$tmp/out" &&

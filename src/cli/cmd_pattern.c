@@ -62,6 +62,8 @@ static const char *pattern_usage =
     "                          edges as for SVG\n"
     "      --merge=TOL         import: merge tolerance, a fraction of the sheet's\n"
     "                          size (default 0.003)\n"
+    "      --piece=N           import: of a file that draws several sheets, sheet N\n"
+    "                          alone (numbered by area, 1 the largest)\n"
     "      --set KEY=VALUE     override a study setting (as for run)\n";
 
 typedef struct popts {
@@ -138,6 +140,7 @@ static int parse(int argc, char **argv, popts *p, sf_error *err)
         {"drive", required_argument, NULL, 'd'},
         {"fold-percent", required_argument, NULL, 'P'}, {"angle-sign", required_argument, NULL, 'S'},
         {"planarize", no_argument, NULL, 'Z'},          {"merge", required_argument, NULL, 'm'},
+        {"piece", required_argument, NULL, 'N'},
         {NULL, 0, NULL, 0},
     };
     optind = 1;
@@ -173,6 +176,11 @@ static int parse(int argc, char **argv, popts *p, sf_error *err)
             else return sf_fail(err, SF_EINPUT, "--angle-sign=%s: fold, opposite or magnitude", optarg);
             break;
         case 'Z': p->io.planarize = 1; break;
+        case 'N':
+            if (parse_num(optarg, "piece", &x, err)) return err->code;
+            if (!(x >= 1 && x <= 1e6 && x == floor(x))) return sf_fail(err, SF_EINPUT, "--piece=%s: a whole number from 1", optarg);
+            p->io.piece = (int)x;
+            break;
         case 'm':
             if (parse_num(optarg, "merge", &x, err)) return err->code;
             if (!(x > 0 && x < 0.1)) return sf_fail(err, SF_EINPUT, "--merge=%s: a fraction of the sheet's size in (0, 0.1)", optarg);

@@ -87,6 +87,15 @@ int sf_cp_planarize(sf_cpattern *cp, double tol, const char *where, sf_error *er
  * first three as "(x, y)-(x, y) mm". */
 int sf_cp_drop_dangling(sf_cpattern *cp, int flat_too, char *what, size_t nwhat, sf_error *err);
 
+/* A file that draws several sheets (cp_pieces.c): its boundary loops, a
+ * loop inside no other being a sheet, numbered by area (1 the largest).
+ * piece = N >= 1 keeps sheet N, its outline and the lines inside it (cp's
+ * vertices renumbered, faces dropped; note, when not NULL, says so);
+ * piece = 0 fails naming --piece when there are several sheets.  A hole
+ * (a loop inside the sheet kept) fails either way.  Outlines that are not
+ * loops are left to sf_cp_check. */
+int sf_cp_pick_piece(sf_cpattern *cp, int piece, const char *where, char *note, size_t nnote, sf_error *err);
+
 /* outer[e] = 1 for the edges on the outer face of the pattern's graph (the
  * loop walked around it from its leftmost vertex), else 0. */
 int sf_cp_outer_edges(const sf_cpattern *cp, char *outer, sf_error *err);

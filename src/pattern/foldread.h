@@ -47,6 +47,8 @@ typedef struct sf_import_opts {
                                edges as for SVG (sf_cp_planarize) */
     double merge;           /* merge tolerance, a fraction of the larger side
                                of the bounding box (SVG and planarize) */
+    int piece;              /* a file of several sheets: the one to read
+                               (1 the largest); 0: refused naming --piece */
 } sf_import_opts;
 
 void sf_import_opts_default(sf_import_opts *o);

@@ -92,6 +92,16 @@ int sf_import_read(const char *path, const sf_import_opts *o, sf_cpattern *cp,
         sf_import_note(info, "--planarize: vertices within %g merged, crossings split: %d edges became %d",
                        o->merge * span, before, cp->ne);
     }
+    {   /* several sheets in one file: the one asked for */
+        char note[240];
+        rc = sf_cp_pick_piece(cp, o->piece, path, note, sizeof note, err);
+        if (rc) { sf_cp_free(cp); return rc; }
+        if (note[0]) {
+            sf_import_note(info, "%s", note);
+            bbox(cp, lo, hi);
+            span = fmax(hi[0] - lo[0], hi[1] - lo[1]);
+        }
+    }
     /* the size */
     double s;
     if (o->size > 0) {

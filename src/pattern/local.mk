@@ -13,7 +13,7 @@ src_libsmoothfold_a_SOURCES += src/pattern/pattern.h \
 	src/pattern/topology_grid.c \
 	src/pattern/assignment.c src/pattern/facets.c src/pattern/facets.h \
 	src/pattern/cpattern.c src/pattern/cpattern.h src/pattern/cp_study.c \
-	src/pattern/cp_from_study.c src/pattern/cp_clean.c src/pattern/cp_dangling.c \
+	src/pattern/cp_from_study.c src/pattern/cp_clean.c src/pattern/cp_dangling.c src/pattern/cp_pieces.c \
 	src/pattern/foldread.h src/pattern/import.c src/pattern/fold_read.c \
 	src/pattern/fold_plane.c src/pattern/fold_plane.h \
 	src/pattern/svg_read.c src/pattern/svg_path.c src/pattern/svg_impl.h \
