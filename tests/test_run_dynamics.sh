@@ -1,7 +1,7 @@
 #!/bin/sh
 # test_run_dynamics.sh - `smoothfold run` on the two dynamics studies writes
 # the documented files: trajectory.tsv with its columns in order and finite
-# numbers only, a shapes.pvd whose .vtp files exist, study.cfg and (with
+# numbers only (the last, warning, empty or a documented word), a shapes.pvd whose .vtp files exist, study.cfg and (with
 # gnuplot) the plot; `smoothfold plot` redraws it; bad dynamics input is a
 # one-line error with nothing written.  Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
@@ -23,9 +23,10 @@ check_run() {
     i=1; while [ $i -le "$np" ]; do want="$want	probe${i}_ux	probe${i}_uy	probe${i}_uz"; i=$((i + 1)); done
     want="$want	energy	kinetic	drift	speed"
     i=1; while [ $i -le "$nf" ]; do want="$want	theta$i"; i=$((i + 1)); done
+    want="$want	warning"
     got=$(awk '!/^#/ { print; exit }' "$out/trajectory.tsv")
     if [ "$got" != "$want" ]; then echo "not ok $n - $name: columns: $got"; return; fi
-    bad=$(awk -F'\t' '!/^#/ && NR > 0 { if (hdr) { for (i = 1; i <= NF; i++) if ($i !~ /^-?[0-9.]+(e[-+]?[0-9]+)?$/) { print NR ": " $i; exit } } else hdr = 1 }' "$out/trajectory.tsv")
+    bad=$(awk -F'\t' '!/^#/ && NR > 0 { if (hdr) { for (i = 1; i < NF; i++) if ($i !~ /^-?[0-9.]+(e[-+]?[0-9]+)?$/) { print NR ": " $i; exit }; if ($NF !~ /^(beyond180|crossing|beyond180,crossing)?$/) { print NR ": warning " $NF; exit } } else hdr = 1 }' "$out/trajectory.tsv")
     if [ -n "$bad" ]; then echo "not ok $n - $name: not a finite number at line $bad"; return; fi
     rows=$(grep -v '^#' "$out/trajectory.tsv" | tail -n +2 | wc -l)
     for f in $(sed -n 's/.*file="\([^"]*\)".*/\1/p' "$out/shapes.pvd"); do

@@ -1,7 +1,7 @@
 # src/cli/: the smoothfold program: option parsing and one file per command.
 src_smoothfold_SOURCES += src/cli/main.c src/cli/commands.c src/cli/commands.h \
 	src/cli/run.c src/cli/run_impl.h src/cli/run_equilibrium.c src/cli/run_stability.c \
-	src/cli/run_point.c src/cli/run_output.c src/cli/progress.c src/cli/progress.h \
+	src/cli/run_point.c src/cli/run_validity.c src/cli/run_validity.h src/cli/run_output.c src/cli/progress.c src/cli/progress.h \
 	src/cli/run_dynamics.c src/cli/run_dynamics.h src/cli/cmp_runs.c src/cli/plot.c \
 	src/cli/cmd_pattern.c src/cli/cmd_fold.c src/cli/cmd_keys.c \
 	src/cli/run_boundary.c src/cli/run_boundary.h \

@@ -55,8 +55,7 @@ static void run_release(run_ctx *r)
     sf_reactions_free(&r->reac);
     sf_pvd_free(&r->pvd);
     sf_foldrec_free(&r->foldrec);
-    sf_validity_free(r->val);
-    r->val = NULL;
+    run_validity_free(&r->vt);
 }
 
 /* The fold formulation's flat start, chosen by "auto" for a small sheet,

@@ -21,6 +21,7 @@
 #include "outbuf.h"
 #include "stability.h"
 #include "study.h"
+#include "run_validity.h"
 #include "vtk.h"
 
 #ifndef PACKAGE_VERSION
@@ -32,6 +33,7 @@ typedef struct bnd_row {
     char label[4];
     int morse, neig;       /* morse -1: no stability */
     double *vals;          /* nev eigenvalues, then nfolds fold angles */
+    sf_validity_report valid;  /* its physical validity */
 } bnd_row;
 
 typedef struct bnd_ctx {
@@ -50,6 +52,7 @@ typedef struct bnd_ctx {
     bnd_row *rows;
     int nrows, caprows, failed;
     long ncusp;
+    run_validity vt;       /* the physical validity of the rows */
 } bnd_ctx;
 
 /* Stability at (y, p) of the problem at q: the Morse index without the
@@ -135,6 +138,14 @@ static int on_curve(const cont_point *pt, void *data)
         return 1;
     }
     for (int i = 0; i < r->nfolds; i++) w->vals[r->nev + i] = pt->y[eq->m->qoff[i]];
+    /* each row's own problem (the second parameter may move the sheet's
+     * geometry): its checker made anew */
+    run_validity_free(&r->vt);
+    if (run_validity_check(&r->vt, eq->m, pt->y, &w->valid, r->err)) {
+        r->failed = 1;
+        sf_error_prefix(r->err, "boundary row %d (%s = %g)", r->nrows - 1, r->fam.shown, w->q);
+        return 1;
+    }
     /* the row's numbers finite (outbuf.h): else stop, nothing is written */
     int bad = sf_need_finite(r->err, w->q, "second parameter at boundary row %d", r->nrows - 1) ||
               sf_need_finite(r->err, w->p, "p at boundary row %d (q = %g)", r->nrows - 1, w->q);
@@ -278,11 +289,23 @@ static int write_boundary(bnd_ctx *r, const char *dir, double pstart)
                      "morse = negative eigenvalues besides the critical one; eig*: J per unit of "
                      "the coordinates; theta*: rad; type: SP start (the point of the path), "
                      "CP cusp, EP end\n", r->fam.shown, pname);
+    /* the rows' validity, counted in their final order */
+    run_validity tally = {0};
+    char (*warn)[40] = calloc((size_t)r->nrows + 1, sizeof *warn);
+    if (!warn) { sf_outbuf_free(&o); return sf_fail(r->err, SF_ENOMEM, "out of memory"); }
+    for (int k = 0; k < r->nrows; k++) run_validity_add(&tally, &r->rows[k].valid, k, r->rows[k].q, warn[k], sizeof warn[k]);
+    tally.val = r->vt.val;   /* the part names */
+    char vline[1500];
+    run_validity_line(&tally, &r->sc->model, r->fam.shown, "boundary.tsv", vline, sizeof vline);
+    if (vline[0]) {
+        sf_outbuf_printf(&o, "# warning: %s\n", vline);
+        fprintf(stderr, "smoothfold: warning: %s\n", vline);   /* also with --quiet */
+    }
     sf_outbuf_printf(&o, "point\tsecond\tp\tmu\tcusp_test\tmorse");
     sf_outbuf_numbered_columns(&o, "eig", r->nev);
     sf_outbuf_printf(&o, "\ttype");
     sf_outbuf_numbered_columns(&o, "theta", r->nfolds);
-    sf_outbuf_printf(&o, "\n");
+    sf_outbuf_printf(&o, "\twarning\n");
     for (int k = 0; k < r->nrows; k++) {
         const bnd_row *w = &r->rows[k];
         sf_outbuf_printf(&o, "%d\t%.15g\t%.15g\t", k, w->q, w->p);
@@ -297,8 +320,9 @@ static int write_boundary(bnd_ctx *r, const char *dir, double pstart)
         }
         sf_outbuf_printf(&o, "\t%s", w->label);
         for (int i = 0; i < r->nfolds; i++) sf_outbuf_printf(&o, "\t%.15g", w->vals[r->nev + i]);
-        sf_outbuf_printf(&o, "\n");
+        sf_outbuf_printf(&o, "\t%s\n", warn[k]);
     }
+    free(warn);
     char path[1200];
     int rc = SF_OK;
     if (o.oom) rc = sf_fail(r->err, SF_ENOMEM, "out of memory");
@@ -381,6 +405,7 @@ int sf_run_boundary(sf_scene *sc, const sf_options *o, sf_error *err)
     free(r.ystar);
     sf_bnd_free(&r.B);
     if (r.do_stab && r.stab.nq) sf_stab_free(&r.stab);
+    run_validity_free(&r.vt);
     sf_family_free(&r.fam);
     return rc;
 }

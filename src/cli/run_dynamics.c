@@ -18,6 +18,7 @@
 
 #include "dynamics.h"
 #include "study.h"
+#include "run_validity.h"
 #include "vtk.h"
 
 #ifndef PACKAGE_VERSION
@@ -42,6 +43,7 @@ typedef struct traj_ctx {
     int nshapes, ishape;
     long nrows;
     double max_drift, next_print;
+    run_validity vt;      /* the physical validity of every row */
 } traj_ctx;
 
 /* One row of trajectory.tsv (and stats.csv) for the current state; the
@@ -76,6 +78,11 @@ static int record(traj_ctx *r)
         if (sf_need_finite(err, d->y[m->qoff[i]], "fold angle of fold %d at trajectory step %ld (t = %.10g)",
                            i + 1, st->steps, d->t))
             return err->code;
+    char warning[40];
+    if (run_validity_row(&r->vt, m, d->y, r->nrows, d->t, warning, sizeof warning, err)) {
+        sf_error_prefix(err, "trajectory step %ld (t = %.10g)", st->steps, d->t);
+        return err->code;
+    }
     sf_outbuf_printf(&r->rows, "%ld\t%.12g\t%.12g\t%.12g", st->steps, d->t, d->p, d->load);
     double uz0 = 0.0;
     for (int i = 0; i < s->nprobes; i++) {
@@ -87,7 +94,7 @@ static int record(traj_ctx *r)
     }
     sf_outbuf_printf(&r->rows, "\t%.12g\t%.12g\t%.3g\t%.6g", Pi, T, drift, speed);
     for (int i = 0; i < m->nfolds; i++) sf_outbuf_printf(&r->rows, "\t%.12g", d->y[m->qoff[i]]);
-    sf_outbuf_printf(&r->rows, "\n");
+    sf_outbuf_printf(&r->rows, "\t%s\n", warning);
     sf_outbuf_printf(&r->stats, "%ld,%.9g,%.6g,%d,%ld,%ld,%ld,%ld,%ld,%.6g\n", st->steps, d->t, st->h,
               st->order, st->nres + st->nchecks, st->njac, st->nni, st->netf, st->ncfn, st->wall);
     /* shapes at k duration / N, k = 0..N, each at the first step at or
@@ -127,13 +134,16 @@ static int write_outputs(traj_ctx *r)
         if (sf_write_atomic(path, sf_outbuf_fill, &(buf), err)) { free(out.s); return err->code; } \
     } while (0)
     sf_outbuf_printf(&out, "%s", r->header.s ? r->header.s : "");
+    char vline[1500];
+    run_validity_line(&r->vt, r->d.m, "t", "trajectory.tsv", vline, sizeof vline);
+    if (vline[0]) sf_outbuf_printf(&out, "# warning: %s\n", vline);
     sf_outbuf_printf(&out, "# units: t: s; p, load: as the parameter; probe*: m; energy, kinetic: J; "
                     "drift: 1 (rotation rows) or m; speed: rad/s; theta*: rad\n");
     sf_outbuf_printf(&out, "step\tt\tp\tload");
     sf_outbuf_probe_columns(&out, s->nprobes);
     sf_outbuf_printf(&out, "\tenergy\tkinetic\tdrift\tspeed");
     sf_outbuf_numbered_columns(&out, "theta", s->nfolds);
-    sf_outbuf_printf(&out, "\n");
+    sf_outbuf_printf(&out, "\twarning\n");
     if (r->rows.n) sf_outbuf_printf(&out, "%.*s", (int)r->rows.n, r->rows.s);
     WRITE("trajectory.tsv", out);
     out.n = 0;
@@ -201,6 +211,12 @@ int sf_run_dynamics(sf_scene *sc, const sf_options *o, sf_error *err)
             rc = write_outputs(&r);
         }
     }
+    if ((!rc || rc == SF_ENUMERIC) && r.nrows > 0) {
+        /* said even with --quiet: a warning about the results */
+        char vline[1500];
+        run_validity_line(&r.vt, r.d.m, "t", "trajectory.tsv", vline, sizeof vline);
+        if (vline[0]) fprintf(stderr, "smoothfold: warning: %s\n", vline);
+    }
     if (!rc) {
         const sf_dyn_stats *st = &r.d.stats;
         if (!o->quiet)
@@ -222,6 +238,7 @@ int sf_run_dynamics(sf_scene *sc, const sf_options *o, sf_error *err)
         else if (!o->quiet)
             printf("wrote %s/trajectory.png, trajectory.pdf\n", r.dir);
     }
+    run_validity_free(&r.vt);
     sf_dyn_free(&r.d);
     free(r.probes);
     free(r.rows.s);

@@ -15,7 +15,7 @@
 #include "reactions.h"
 #include "scene.h"
 #include "stability.h"
-#include "validity.h"
+#include "run_validity.h"
 #include "vtk.h"
 
 #ifndef PACKAGE_VERSION
@@ -76,13 +76,7 @@ typedef struct run_ctx {
     long drop_bad;        /* points where it exceeded the Newton tolerance */
     /* physical validity of every point written (validity.h): the warning
      * column of branch.tsv, and the summary at the end of the run */
-    sf_validity *val;
-    long val_beyond_rows, val_cross_rows;  /* rows with folds beyond 180 deg, crossings */
-    long val_first_beyond, val_first_cross;  /* their first rows (-1: none) */
-    sf_validity_report val_worst_beyond;   /* the row with the fold farthest beyond */
-    sf_validity_report val_worst_cross;    /* the row with the deepest crossing */
-    long val_worst_beyond_row, val_worst_cross_row;
-    double val_worst_beyond_p, val_worst_cross_p;
+    run_validity vt;
     /* "auto" chose the fold formulation for a small sheet with loops
      * (choose_keys), and its flat start found no first point: run.c runs
      * the study again with the sparse pose start */

@@ -101,70 +101,16 @@ static int check_point(run_ctx *r, const cont_point *pt, double sarc, double loa
  * degrees) and "crossing" (parts of the sheet through each other). */
 static int validity_field(run_ctx *r, const cont_point *pt, char *field, size_t size)
 {
-    const sf_model *m = r->eq.m;
-    field[0] = '\0';
-    if (!r->val) {
-        if (sf_validity_create(m, m->study->samples, &r->val, r->err)) return r->err->code;
-        r->val_first_beyond = r->val_first_cross = -1;
-    }
-    sf_validity_report rep;
-    if (sf_validity_check(r->val, pt->y, 0, &rep, r->err)) {
+    if (run_validity_row(&r->vt, r->eq.m, pt->y, r->npoints, pt->p, field, size, r->err)) {
         sf_error_prefix(r->err, "row %ld (branch %d, p = %.10g)", r->npoints, r->bif.branch, pt->p);
         return r->err->code;
-    }
-    if (rep.nbeyond) {
-        snprintf(field, size, "beyond180");
-        if (r->val_first_beyond < 0) r->val_first_beyond = r->npoints;
-        if (!r->val_beyond_rows++ || fabs(rep.beyond_angle) > fabs(r->val_worst_beyond.beyond_angle)) {
-            r->val_worst_beyond = rep;
-            r->val_worst_beyond_row = r->npoints;
-            r->val_worst_beyond_p = pt->p;
-        }
-    }
-    if (rep.ncross) {
-        size_t L = strlen(field);
-        snprintf(field + L, size - L, "%scrossing", L ? "," : "");
-        if (r->val_first_cross < 0) r->val_first_cross = r->npoints;
-        if (!r->val_cross_rows++ || rep.cross_sep > r->val_worst_cross.cross_sep) {
-            r->val_worst_cross = rep;
-            r->val_worst_cross_row = r->npoints;
-            r->val_worst_cross_p = pt->p;
-        }
     }
     return SF_OK;
 }
 
 void run_validity_summary(const run_ctx *r, char *buf, size_t size)
 {
-    buf[0] = '\0';
-    if (!r->val_beyond_rows && !r->val_cross_rows) return;
-    const sf_model *m = r->eq.m;
-    size_t L = 0;
-    L += snprintf(buf + L, size - L, "physically invalid shapes:");
-    if (r->val_beyond_rows) {
-        const sf_validity_report *w = &r->val_worst_beyond;
-        char f[200];
-        sf_topology_fold_name(m->study, w->beyond_fold, f, sizeof f);
-        L += snprintf(buf + L, L < size ? size - L : 0, " %ld row%s with folds beyond +-180 degrees "
-                      "(from row %ld; farthest %s at %.1f degrees, row %ld, p = %.6g)",
-                      r->val_beyond_rows, r->val_beyond_rows == 1 ? "" : "s", r->val_first_beyond, f,
-                      w->beyond_angle * 180 / M_PI, r->val_worst_beyond_row, r->val_worst_beyond_p);
-    }
-    if (r->val_cross_rows) {
-        const sf_validity_report *w = &r->val_worst_cross;
-        char a[300], b[300];
-        sf_validity_part_name(r->val, w->cross_part[0], a, sizeof a);
-        sf_validity_part_name(r->val, w->cross_part[1], b, sizeof b);
-        L += snprintf(buf + L, L < size ? size - L : 0, "%s %ld row%s where the sheet passes through "
-                      "itself (from row %ld; deepest at row %ld, p = %.6g: %s through %s, material "
-                      "%.3g m apart in the flat sheet meeting at (%.4g, %.4g, %.4g) m)",
-                      r->val_beyond_rows ? ";" : "", r->val_cross_rows, r->val_cross_rows == 1 ? "" : "s",
-                      r->val_first_cross, r->val_worst_cross_row, r->val_worst_cross_p,
-                      a, b, w->cross_sep, w->cross_at[0], w->cross_at[1], w->cross_at[2]);
-    }
-    if (L < size)
-        snprintf(buf + L, size - L, " (warning column of branch.tsv; docs/reference/output-files.md, "
-                 "\"Physical validity\")");
+    run_validity_line(&r->vt, r->eq.m, "p", "branch.tsv", buf, size);
 }
 
 int run_on_point(const cont_point *pt, void *data)
