@@ -182,8 +182,13 @@ int sf_cp_outline(const sf_cpattern *cp, int **out, int *n, const char *where,
         if (deg[v] != 0 && deg[v] != 2) {
             int d = deg[v];   /* read before the array is freed */
             free(deg);
-            return FAILW("%svertices_coords[%d]: %d boundary edges meet there (the outline must be "
-                         "one simple loop: 2 at each boundary vertex)", w, v, d);
+            if (d == 1)
+                return FAILW("%svertices_coords[%d] (%g, %g): a boundary edge ends there, meeting no other "
+                             "(a gap in the outline? the outline must be one closed loop)", w, v, cp->v[v].x[0],
+                             cp->v[v].x[1]);
+            return FAILW("%svertices_coords[%d] (%g, %g): %d boundary edges meet there (two outlines touching, "
+                         "or a stray boundary line? the outline must be one simple loop: 2 boundary edges at "
+                         "each of its vertices)", w, v, cp->v[v].x[0], cp->v[v].x[1], d);
         }
     free(deg);
     int *loop = malloc((size_t)nb * sizeof *loop);
