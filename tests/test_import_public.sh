@@ -18,7 +18,7 @@ py=$(command -v python3)
 n=$(grep -vc '^#' "$man")
 nsvg=$(grep -v '^#' "$man" | awk -F'\t' '$1 ~ /\.svg$/ && $3 == "ok"' | wc -l)
 nfold=$(grep -v '^#' "$man" | awk -F'\t' '$1 ~ /\.fold(\.gz)?$/ && $3 == "ok" && $2 == "-"' | wc -l)
-echo "1..$((n + nsvg + 2 * nfold + 10))"
+echo "1..$((n + nsvg + 2 * nfold + 11))"
 grep -v '^#' "$man" > "$tmp/manifest"   # read below without a pipe: ok/nok count on
 while IFS='	' read -r file opts want; do
     f="$src/tests/public/$file"
@@ -76,6 +76,26 @@ done < "$tmp/manifest"
 if r=$("$py" "$src/tests/public_check.py" samefolds "$tmp/b7.cfg" "$tmp/b10.cfg" 1e-12 2>&1) && [ "${r%% *}" = 1 ]; then
     ok "backslash-07.svg (CSS transform: scale, matrix) has backslash-10.svg's fold: $r"
 else nok "backslash-07.svg against backslash-10.svg: $r"; fi
+# Rabbit Ear's own reading of its SVG test files (its
+# tests/convert.svgToFold.test.js at b717948): fish.svg 11 vertices, 22
+# edges, 12 faces, 8 boundary edges; each backslash-NN.svg 7 vertices, 10
+# edges, 4 faces, 6 boundary, 2 valley and 2 flat (grey) edges.  Here from
+# the planar graph import writes as FOLD (faces by Euler: E - V + 1)
+rab=""
+for f in fish:11:22:12:8:-:- backslash-07:7:10:4:6:2:2 backslash-10:7:10:4:6:2:2; do
+    b=${f%%:*}
+    "$bin" import "$src/tests/public/rabbit-ear/$b.svg" -o "$tmp/re-$b.fold" >/dev/null 2>&1
+    got=$("$py" -c "
+import json, sys
+d = json.load(open(sys.argv[1])); a = d['edges_assignment']
+nv, ne = len(d['vertices_coords']), len(d['edges_vertices'])
+print('%s:%d:%d:%d:%d:%s:%s' % (sys.argv[2], nv, ne, ne - nv + 1, a.count('B'),
+      a.count('V') if sys.argv[3] != '-' else '-', a.count('F') if sys.argv[3] != '-' else '-'))"         "$tmp/re-$b.fold" "$b" "${f##*:}" 2>&1)
+    [ "$got" = "$f" ] || rab="$rab $b: got $got, Rabbit Ear $f;"
+done
+if [ -z "$rab" ]; then
+    ok "fish.svg, backslash-07.svg, backslash-10.svg: the vertices, edges, faces, boundary, valley and flat edges Rabbit Ear's own tests expect"
+else nok "against Rabbit Ear's counts:$rab"; fi
 # folds that end inside a face are left out, and import says so
 "$bin" import "$src/tests/public/rabbit-ear/separated-parallel-edges.fold" -o "$tmp/sp.cfg" > "$tmp/out" 2>&1
 if grep -q "separated-parallel-edges.fold: 4 folds left out: they end inside a face, where rigid faces keep them flat" "$tmp/out" &&

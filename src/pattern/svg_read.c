@@ -6,7 +6,8 @@
  * line, polyline, polygon, rect and path elements (svg_path.c), each
  * mapped through its transforms, classed by its stroke colour
  *   black boundary (B), red mountain (M), blue valley (V), yellow facet
- *   (F), magenta unassigned (U), green cut (refused),
+ *   (F), magenta unassigned (U), green cut (refused), and grey flat (F, as
+ *   Rabbit Ear and flat-folder draw flat creases),
  * with fold angle +-180 degrees x opacity x stroke-opacity for M and V;
  * Rabbit Ear's data-assignment and data-foldAngle attributes, where an
  * element or its group has them, take the colour's place.
@@ -214,6 +215,9 @@ static char colour_class(const char *c, double *alpha)
     static const struct { const char *n; char c; } names[] = {
         {"black", 'B'}, {"red", 'M'}, {"blue", 'V'}, {"yellow", 'F'}, {"magenta", 'U'}, {"fuchsia", 'U'},
         {"green", 'C'}, {"lime", 'C'},
+        /* Rabbit Ear's and flat-folder's flat creases: greys */
+        {"gray", 'F'}, {"grey", 'F'}, {"lightgray", 'F'}, {"lightgrey", 'F'}, {"darkgray", 'F'},
+        {"darkgrey", 'F'}, {"dimgray", 'F'}, {"dimgrey", 'F'}, {"silver", 'F'}, {"gainsboro", 'F'},
     };
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
         if (strcmp(s, names[i].n) == 0) return names[i].c;
@@ -244,6 +248,7 @@ static char colour_class(const char *c, double *alpha)
     };
     for (size_t i = 0; i < sizeof cols / sizeof cols[0]; i++)
         if (rgb[0] == cols[i].r && rgb[1] == cols[i].g && rgb[2] == cols[i].b) return cols[i].c;
+    if (rgb[0] == rgb[1] && rgb[1] == rgb[2] && rgb[0] > 0 && rgb[0] < 255) return 'F';   /* a grey */
     return '?';
 }
 
