@@ -56,6 +56,8 @@ static void run_release(run_ctx *r)
     sf_pvd_free(&r->pvd);
     sf_foldrec_free(&r->foldrec);
     run_validity_free(&r->vt);
+    free(r->held_y);
+    r->held_y = NULL;
 }
 
 /* The fold formulation's flat start, chosen by "auto" for a small sheet,

@@ -127,6 +127,7 @@ static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, d
     }
     free(y0);
     if (r->failed) return err->code;
+    if (run_flush_held(r)) return err->code;   /* the branch ended after a held BP */
     if (rc == CONT_FAIL) {
         /* the keys of the remedies a diagnosis names */
         const char *m = cont_errmsg(cs);
@@ -136,7 +137,9 @@ static int follow_path(run_ctx *r, double *y0, int staged, int dir, double lo, d
                           : strstr(m, "residual floor") ? " (solver.tolerance)" : "");
     }
     if (r->flat_sw && flat_switch(r)) return err->code;
-    return sf_bif_switch(&r->bif, cs, err);
+    rc = sf_bif_switch(&r->bif, cs, err);
+    if (!rc && run_flush_held(r)) return err->code;
+    return rc;
 }
 /* The flat state as the path's first written point; nonzero when the
  * point callback stopped the run. */

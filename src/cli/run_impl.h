@@ -53,6 +53,14 @@ typedef struct run_ctx {
     sf_bif bif;
     sf_outbuf bnotes;
     int skip_start;       /* the next point repeats the last one (stage restart) */
+    /* a branch point of the engine's determinant test, held back until
+     * the next point's Morse index says whether an eigenvalue crossed
+     * (run_point.c, hold_bp) */
+    int held;
+    int held_morse;       /* the index of the row before it */
+    cont_point held_pt;
+    double *held_y, *held_ty, *held_eig;
+    sf_stab_result held_res;
     double seg_end;       /* end of the stage being followed (multi-stage loads) */
     double p_lo, p_hi;    /* the parameter range of the path */
     int max_steps;        /* analysis.max_steps */
@@ -94,6 +102,9 @@ int run_setup_stability(run_ctx *r, int *depth);
 
 /* run_point.c: the engine's callback for each solved point (cont.h). */
 int run_on_point(const cont_point *pt, void *data);
+/* A held branch point written as it is (the branch ended before the next
+ * point decided it); nonzero when writing failed. */
+int run_flush_held(run_ctx *r);
 /* run_point.c: write the rows, shapes and progress line of one solved point. */
 int run_write_point(run_ctx *r, const cont_point *pt);
 /* run_point.c: a note on a branch, for branch.tsv's header and the terminal. */

@@ -113,6 +113,99 @@ void run_validity_summary(const run_ctx *r, char *buf, size_t size)
     run_validity_line(&r->vt, r->eq.m, "p", "branch.tsv", buf, size);
 }
 
+/* Swap r->stab.res with the held point's (the eigenvalues by value: both
+ * results point into the solver's array). */
+static void swap_held_res(run_ctx *r)
+{
+    sf_stab_result cur = r->stab.res;
+    int nev = r->stab.nev;
+    for (int i = 0; i < nev; i++) {
+        double t = cur.eig[i];
+        cur.eig[i] = r->held_eig[i];
+        r->held_eig[i] = t;
+    }
+    double *eig = cur.eig;
+    r->stab.res = r->held_res;
+    r->stab.res.eig = eig;
+    r->held_res = cur;
+}
+
+/* The held point through the bookkeeping a point takes (the Morse-index
+ * check against the row before, then its row), with its own stability. */
+static int write_held(run_ctx *r)
+{
+    r->held = 0;
+    swap_held_res(r);
+    int rc = 0;
+    if (sf_bif_check(&r->bif, &r->held_pt, r->s_offset, 0, r->err)) {
+        r->failed = 1;
+        rc = 1;
+    }
+    if (!rc) {   /* as run_on_point: located again on its eigenvalue where that is closer */
+        cont_point q;
+        double *ybuf = malloc(sizeof(double) * (size_t)r->eq.n);
+        if (ybuf && sf_bif_refine(&r->bif, &r->held_pt, r->s_offset, 0, &q, ybuf)) rc = run_write_point(r, &q);
+        else rc = run_write_point(r, &r->held_pt);
+        free(ybuf);
+    }
+    swap_held_res(r);
+    return rc;
+}
+
+int run_flush_held(run_ctx *r) { return r->held ? write_held(r) : 0; }
+
+/* A branch point of the engine's test is a sign change of det [Jy Fp;
+ * t^T]; on the branch that is an odd number of eigenvalues of the
+ * constrained Hessian crossing zero, so the Morse index differs on its two
+ * sides.  Where nearly dependent constraint rows are regularised
+ * (docs/design/linear-algebra.md, "Weak rows"), rounding can flip the
+ * determinant's sign with no eigenvalue near zero.  So a BP whose Morse
+ * index is the row before's is held (1) until the next point: the same
+ * index there means no eigenvalue crossed, and the BP is dropped with a
+ * note; another index, and it is written first. */
+static int hold_bp(run_ctx *r, const cont_point *pt)
+{
+    const sf_stab_result *S = &r->stab.res;
+    const sf_bif *b = &r->bif;
+    if (pt->type != CONT_PT_BP || S->morse_unknown || !b->prev_ok || S->morse != b->prev_lo ||
+        S->morse != b->prev_hi)
+        return 0;
+    int n = r->eq.n, nev = r->stab.nev;
+    if (!r->held_y) {
+        r->held_y = malloc(sizeof(double) * (size_t)(2 * n + nev + 1));
+        if (!r->held_y) return 0;   /* no memory to hold it: written as it is */
+        r->held_ty = r->held_y + n;
+        r->held_eig = r->held_ty + n;
+    }
+    memcpy(r->held_y, pt->y, sizeof(double) * (size_t)n);
+    r->held_pt = *pt;
+    r->held_pt.y = r->held_y;
+    if (pt->ty) memcpy(r->held_ty, pt->ty, sizeof(double) * (size_t)n);
+    r->held_pt.ty = pt->ty ? r->held_ty : NULL;
+    r->held_pt.test = NULL;
+    r->held_res = *S;
+    for (int i = 0; i < nev; i++) r->held_eig[i] = S->eig[i];
+    r->held_morse = S->morse;
+    r->held = 1;
+    return 1;
+}
+
+/* The next point after a held BP: drop it or write it (nonzero: failed). */
+static int settle_held(run_ctx *r, const cont_point *pt)
+{
+    const sf_stab_result *S = &r->stab.res;
+    if (!S->morse_unknown && S->morse == r->held_morse) {
+        r->held = 0;
+        run_branch_note(r, "branch %d, p = %.10g: the extended Jacobian's determinant changed sign, "
+                        "but the Morse index is %d before and after (next point p = %.10g): no eigenvalue "
+                        "crossed zero, not a branch point, not written (nearly dependent constraint rows; "
+                        "docs/design/linear-algebra.md, \"Weak rows\")", r->bif.branch, r->held_pt.p,
+                        S->morse, pt->p);
+        return 0;
+    }
+    return write_held(r);
+}
+
 int run_on_point(const cont_point *pt, void *data)
 {
     run_ctx *r = data;
@@ -168,6 +261,8 @@ int run_on_point(const cont_point *pt, void *data)
             run_branch_note(r, "stability at row %ld (branch %d, p = %.10g): %s: %s", r->npoints,
                             r->bif.branch, pt->p, how, S->reason);
         }
+        if (r->held && settle_held(r, pt)) return 1;
+        if (hold_bp(r, pt)) return 0;
         if (sf_bif_check(&r->bif, pt, r->s_offset, r->branch_first, r->err)) {
             r->failed = 1;
             return 1;

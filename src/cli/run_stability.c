@@ -28,6 +28,7 @@ static int on_branch(void *ctx, const sf_bif_bp *bp, int branch)
 {
     run_ctx *r = ctx;
     (void)bp;
+    if (run_flush_held(r)) return r->err->code ? r->err->code : SF_EINTERNAL;   /* the last branch's */
     if (r->nshapes > 0) {
         /* each branch has its own series of shapes */
         if (sf_pvd_write(&r->pvd, r->err)) return r->err->code;
