@@ -190,11 +190,15 @@ static int hold_bp(run_ctx *r, const cont_point *pt)
     return 1;
 }
 
-/* The next point after a held BP: drop it or write it (nonzero: failed). */
+/* The next point after a held BP: drop it or write it (nonzero: failed).
+ * Only a regular point or the end point decides: another special point
+ * (an LP in the same step) has an eigenvalue at zero itself, so the held
+ * BP is written. */
 static int settle_held(run_ctx *r, const cont_point *pt)
 {
     const sf_stab_result *S = &r->stab.res;
-    if (!S->morse_unknown && S->morse == r->held_morse) {
+    int decides = pt->type == CONT_PT_REGULAR || pt->type == CONT_PT_EP;
+    if (decides && !S->morse_unknown && S->morse == r->held_morse) {
         r->held = 0;
         run_branch_note(r, "branch %d, p = %.10g: the extended Jacobian's determinant changed sign, "
                         "but the Morse index is %d before and after (next point p = %.10g): no eigenvalue "
