@@ -49,13 +49,11 @@ static void size_text(const sf_import_info *info, char *buf, size_t n)
  * to try */
 static void near_points_hint(const sf_cpattern *cp, const sf_import_opts *io, const char *format, sf_error *err)
 {
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, lmin = INFINITY;
-    for (int i = 0; i < cp->nv; i++)
-        for (int k = 0; k < 2; k++) { lo[k] = fmin(lo[k], cp->v[i].x[k]); hi[k] = fmax(hi[k], cp->v[i].x[k]); }
+    double lmin = INFINITY;
     for (int e = 0; e < cp->ne; e++)
         lmin = fmin(lmin, hypot(cp->v[cp->e[e].b].x[0] - cp->v[cp->e[e].a].x[0],
                                 cp->v[cp->e[e].b].x[1] - cp->v[cp->e[e].a].x[1]));
-    double span = fmax(hi[0] - lo[0], hi[1] - lo[1]), r = lmin / span;
+    double r = lmin / sf_cp_size(cp);
     if (!(r < 1e-3)) return;
     size_t l = strlen(err->msg);
     if (strcmp(format, "FOLD") == 0 && !io->planarize)

@@ -6,6 +6,7 @@
  * inside it.  A smoothfold sheet has one outline, so a hole is refused.
  */
 #include "cpattern.h"
+#include "topology.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -21,15 +22,11 @@ typedef struct loop {
 
 static const double *P(const sf_cpattern *cp, int v) { return cp->v[v].x; }
 
-/* Is p inside the polygon of loop L (the even-odd rule)? */
-static int inside(const sf_cpattern *cp, const int *walk, const loop *L, const double *p)
+/* Is p inside loop L (or on it)?  xy: the walked vertices' coordinates */
+static int inside(double (*xy)[2], const loop *L, const double *p)
 {
-    int in = 0;
-    for (int i = 0, j = L->n - 1; i < L->n; j = i++) {
-        const double *a = P(cp, walk[L->start + i]), *b = P(cp, walk[L->start + j]);
-        if ((a[1] > p[1]) != (b[1] > p[1]) && p[0] < (b[0] - a[0]) * (p[1] - a[1]) / (b[1] - a[1]) + a[0]) in = !in;
-    }
-    return in;
+    sf_polygon poly = {L->n, xy + L->start};
+    return sf_polygon_contains(&poly, p, 0.0);
 }
 
 static const loop *g_loops;   /* qsort has no context in C99: set while sorting */
@@ -49,7 +46,8 @@ int sf_cp_pick_piece(sf_cpattern *cp, int piece, const char *where, char *note, 
     int *walk = malloc(sizeof *walk * (size_t)(ne + 1)), *vloop = malloc(sizeof *vloop * (size_t)(nv + 1));
     loop *L = malloc(sizeof *L * (size_t)(ne + 1));
     int *order = malloc(sizeof *order * (size_t)(ne + 1));
-    if (!deg || !adj || !walk || !vloop || !L || !order) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); goto done; }
+    double (*xy)[2] = malloc(sizeof *xy * (size_t)(ne + 1));
+    if (!deg || !adj || !walk || !vloop || !L || !order || !xy) { rc = sf_fail(err, SF_ENOMEM, "out of memory"); goto done; }
     /* the boundary graph; anything but 2 edges at each of its vertices is
      * left to sf_cp_check's messages */
     for (int e = 0; e < ne; e++) {
@@ -75,6 +73,8 @@ int sf_cp_pick_piece(sf_cpattern *cp, int piece, const char *where, char *note, 
         int prev = -1, v = v0;
         do {
             vloop[v] = nl;
+            xy[nw][0] = P(cp, v)[0];
+            xy[nw][1] = P(cp, v)[1];
             walk[nw++] = v;
             int next = adj[2 * v] != prev ? adj[2 * v] : adj[2 * v + 1];
             prev = v;
@@ -96,7 +96,7 @@ int sf_cp_pick_piece(sf_cpattern *cp, int piece, const char *where, char *note, 
     /* nesting: the smallest loop that holds a vertex of this one */
     for (int i = 0; i < nl; i++)
         for (int j = 0; j < nl; j++)
-            if (j != i && L[j].area > L[i].area && inside(cp, walk, &L[j], P(cp, walk[L[i].start])) &&
+            if (j != i && L[j].area > L[i].area && inside(xy, &L[j], P(cp, walk[L[i].start])) &&
                 (L[i].parent < 0 || L[j].area < L[L[i].parent].area))
                 L[i].parent = j;
     int np = 0, nholes = 0;
@@ -143,7 +143,7 @@ int sf_cp_pick_piece(sf_cpattern *cp, int piece, const char *where, char *note, 
         if (E->assign == 'B') in = vloop[E->a] == keep;
         else {
             double m[2] = {0.5 * (P(cp, E->a)[0] + P(cp, E->b)[0]), 0.5 * (P(cp, E->a)[1] + P(cp, E->b)[1])};
-            in = inside(cp, walk, &L[keep], m);
+            in = inside(xy, &L[keep], m);
         }
         if (in) cp->e[k++] = *E;
     }
@@ -167,6 +167,6 @@ int sf_cp_pick_piece(sf_cpattern *cp, int piece, const char *where, char *note, 
         snprintf(note, nnote, "--piece=%d: sheet %d of the %d the file draws (numbered by area, largest first), "
                  "%d edges; the others left out", piece, piece, np, kept);
 done:
-    free(deg); free(adj); free(walk); free(vloop); free(L); free(order);
+    free(deg); free(adj); free(walk); free(vloop); free(L); free(order); free(xy);
     return rc;
 }

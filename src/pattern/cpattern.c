@@ -70,8 +70,7 @@ static double cross3(const double *o, const double *a, const double *b)
     return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
 }
 
-/* size of the pattern (larger side of the bounding box) */
-static double cp_size(const sf_cpattern *cp)
+double sf_cp_size(const sf_cpattern *cp)
 {
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (int i = 0; i < cp->nv; i++)
@@ -230,7 +229,7 @@ int sf_cp_check(const sf_cpattern *cp, const char *where, sf_error *err)
 {
     char wb[1100];
     snprintf(wb, sizeof wb, "%s%s", where ? where : "", where ? ": " : "");
-    double tol = 1e-9 * cp_size(cp);
+    double tol = 1e-9 * sf_cp_size(cp);
     for (int i = 0; i < cp->nv; i++)
         if (!isfinite(cp->v[i].x[0]) || !isfinite(cp->v[i].x[1]))
             return FAILW("%svertices_coords[%d]: not a finite point", wb, i);

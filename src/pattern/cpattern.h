@@ -57,6 +57,9 @@ int sf_cp_vertex_at(sf_cpattern *cp, double x, double y, double tol);
 /* Append an edge; returns its index, or -1 when out of memory. */
 int sf_cp_add_edge(sf_cpattern *cp, int a, int b, char assign, double angle_deg);
 
+/* The larger side of the bounding box (1 when it has none). */
+double sf_cp_size(const sf_cpattern *cp);
+
 /* Check the pattern as a planar straight-line graph: edges refer to
  * existing, distinct vertices; no zero-length, duplicate or overlapping
  * edges; no two edges crossing away from a shared vertex; no vertex inside
