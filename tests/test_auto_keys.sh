@@ -3,19 +3,19 @@
 # analysis.flat_start and analysis.step_norm (src/cli/run_equilibrium.c,
 # choose_keys; docs/reference/study-keys.md, "Large sheets"): up to
 # solver.auto_unknowns unknowns in fold coordinates (default 300) the
-# choices before "auto" ("folds", "limit", "sum"), above it, with none of
+# fold formulation's choices ("folds", "multipliers", "sum"), above it, with none of
 # the three keys set, "poses", "sparse", "rms", said in one header line.
 # On the 2x2 Miura-ori of bench/miura-study.sh (actuation, K = 1: 102
 # unknowns in fold coordinates):
-#  1: the default run is the explicit "folds"/"limit"/"sum" run, byte for
+#  1: the default run is the explicit "folds"/"multipliers"/"sum" run, byte for
 #     byte in branch.tsv (no header line), and DIR/study.cfg records the
 #     three values;
 #  2: with solver.auto_unknowns = 100 (a sheet just above the threshold) the
 #     header states poses/sparse/rms and why, and branch.tsv is the
 #     explicit poses/sparse/rms run's but for that line;
-#  3: there, a key set keeps its value and the others the choices below the
-#     threshold (solver.formulation = "folds": the explicit folds run), and
-#     the header says so;
+#  3: there, a key set keeps its value and the others the fold
+#     formulation's ("limit" above the threshold: solver.formulation =
+#     "folds" gives the explicit folds/limit/sum run), and the header says so;
 #  4: the loop penalty (fold formulation only; 48 unknowns, no multipliers,
 #     above a threshold of 40) keeps "folds";
 #  5: flat_start = "sparse" alone is an input error (it needs poses), one
@@ -28,16 +28,14 @@
 #     of 110 that the K run, 102, is not) keeps the K run's choices;
 #  9: the 2x2 sheet under gravity and a tip load (bench/miura-study.sh 2
 #     load 1): the fold formulation's flat start (the choice below the
-#     threshold) follows the degenerate ray of the straight fold lines to
-#     p = 1 (exit 0, no second run, folds/limit/sum in study.cfg) and ends
-#     where the sparse pose start's run ends (tip uz to 1e-7 m, fold angles
-#     to 5e-6 rad; docs/design/start.md, "Limits");
-# 10: a sheet whose fold start finds no first point (pattern miura
-#     --cells=3x2 --gravity --load=0.01, rest angles 0): the run goes again
-#     with the sparse pose start and reaches the end of its path, p = 2
-#     (exit 0), its header and study.cfg say so; with solver.formulation =
-#     "folds" set there is no second run, and the message names the pose
-#     start first (exit 3).
+#     threshold) reaches p = 1 (exit 0, no second run, folds/multipliers/sum
+#     in study.cfg) and ends where the sparse pose start's run ends (tip uz
+#     to 1e-7 m, fold angles to 5e-6 rad);
+# 10: pattern miura --cells=3x2 --gravity --load=0.01, rest angles 0 (a
+#     sheet whose limit start in fold coordinates found no first point):
+#     the default run reaches the end of its path, p = 2 (exit 0, no
+#     second run, folds/multipliers/sum), at the state of the explicit
+#     sparse pose start's run (tip uz to 1e-9 m, energy to 1e-8 relative).
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 . "$src/tests/tap.sh"
@@ -55,7 +53,7 @@ keys() {   # keys DIR: the three values recorded in DIR/study.cfg
          END {print v["formulation"], v["flat_start"], v["step_norm"]}' "$1/study.cfg"
 }
 F='solver.formulation' S='analysis.flat_start' N='analysis.step_norm'
-folds="--set $F=\"folds\" --set $S=\"limit\" --set $N=\"sum\""
+folds="--set $F=\"folds\" --set $S=\"multipliers\" --set $N=\"sum\""
 poses="--set $F=\"poses\" --set $S=\"sparse\" --set $N=\"rms\""
 
 # 1: below the threshold
@@ -63,8 +61,8 @@ a=$(run auto); e=$(run explicit $folds)
 k=$(keys "$tmp/auto")
 r=0
 [ "$a" = 0 ] && [ "$e" = 0 ] && cmp -s "$tmp/auto/branch.tsv" "$tmp/explicit/branch.tsv" &&
-    ! grep -q '^# auto' "$tmp/auto/branch.tsv" && [ "$k" = "folds limit sum" ] && r=1
-check $r "2x2 (102 unknowns): the default run is the folds/limit/sum run (exit $a, $e; study.cfg: $k)"
+    ! grep -q '^# auto' "$tmp/auto/branch.tsv" && [ "$k" = "folds multipliers sum" ] && r=1
+check $r "2x2 (102 unknowns): the default run is the folds/multipliers/sum run (exit $a, $e; study.cfg: $k)"
 
 # 2: just above a threshold of 100
 a=$(run big --set solver.auto_unknowns=100); e=$(run bigx $poses)
@@ -77,14 +75,14 @@ r=0
 check $r "above the threshold: poses/sparse/rms, the explicit run's branch.tsv (exit $a, $e; study.cfg: $k)"
 [ $r = 1 ] || echo "# $line"
 
-# 3: a key set wins, the others keep the small-sheet choices
-a=$(run set --set solver.auto_unknowns=100 --set "$F=\"folds\"")
+# 3: a key set wins, the others keep the fold formulation's choices
+a=$(run set --set solver.auto_unknowns=100 --set "$F=\"folds\""); e=$(run explicitl --set $F=\"folds\" --set $S=\"limit\" --set $N=\"sum\")
 k=$(keys "$tmp/set")
 line=$(grep '^# auto' "$tmp/set/branch.tsv")
 r=0
 [ "$a" = 0 ] && [ "$k" = "folds limit sum" ] &&
-    grep -v '^# auto' "$tmp/set/branch.tsv" | cmp -s - "$tmp/explicit/branch.tsv" &&
-    [ "$line" = '# auto: 102 unknowns in fold coordinates, above solver.auto_unknowns = 100, but solver.formulation is set: analysis.flat_start = "limit", analysis.step_norm = "sum" as below it' ] && r=1
+    grep -v '^# auto' "$tmp/set/branch.tsv" | cmp -s - "$tmp/explicitl/branch.tsv" &&
+    [ "$line" = '# auto: 102 unknowns in fold coordinates, above solver.auto_unknowns = 100, but solver.formulation is set: analysis.flat_start = "limit", analysis.step_norm = "sum" (the fold formulation'"'"'s)' ] && r=1
 check $r "above the threshold, solver.formulation = \"folds\" set: folds/limit/sum, the explicit run (exit $a; study.cfg: $k)"
 [ $r = 1 ] || echo "# $line"
 
@@ -129,9 +127,9 @@ check $r "4x4 (518 unknowns) at the default threshold 300: poses/sparse/rms (stu
 a=$(run conv --set solver.auto_unknowns=110 --set analysis.convergence=true)
 k=$(keys "$tmp/conv/kplus1")
 r=0
-[ "$a" = 0 ] && [ "$k" = "folds limit sum" ] && [ -s "$tmp/conv/convergence.tsv" ] &&
+[ "$a" = 0 ] && [ "$k" = "folds multipliers sum" ] && [ -s "$tmp/conv/convergence.tsv" ] &&
     ! grep -q '^# auto' "$tmp/conv/kplus1/branch.tsv" && r=1
-check $r "convergence: the K+1 run (126 unknowns, threshold 110) keeps folds/limit/sum (exit $a; study.cfg: $k)"
+check $r "convergence: the K+1 run (126 unknowns, threshold 110) keeps folds/multipliers/sum (exit $a; study.cfg: $k)"
 
 # 9: the 2x2 sheet under gravity and a tip load: the fold start follows
 # the degenerate ray and ends at the pose run's state
@@ -150,26 +148,32 @@ d=$(awk -F '\t' 'FNR == 1 {f++; h = 0} /^#/ {next} !h {for (i = 1; i <= NF; i++)
      "$tmp/m2l/branch.tsv" "$tmp/m2lp/branch.tsv" 2>/dev/null)
 set -- $d
 r=0
-[ "$a" = 0 ] && [ "$b" = 0 ] && [ "$k" = "folds limit sum" ] && [ "$1" = 1 ] && [ "$2" = 1 ] &&
+[ "$a" = 0 ] && [ "$b" = 0 ] && [ "$k" = "folds multipliers sum" ] && [ "$1" = 1 ] && [ "$2" = 1 ] &&
     ! grep -q '^# auto' "$tmp/m2l/branch.tsv" &&
-    grep -q '^# flat start: the driving.s branch is a degenerate ray of the tangent cone' "$tmp/m2l/branch.tsv" &&
     awk -v u="$3" -v t="$4" 'BEGIN {exit !(u <= 1e-7 && t <= 5e-6)}' && r=1
-check $r "2x2 under gravity and a tip load: the fold start (degenerate ray) reaches p = $1 (exit $a; study.cfg: $k), the pose run p = $2 (exit $b); tip uz $3 m, fold angles $4 rad apart"
+check $r "2x2 under gravity and a tip load: the fold start reaches p = $1 (exit $a; study.cfg: $k), the pose run p = $2 (exit $b); tip uz $3 m, fold angles $4 rad apart"
 
-# 10: a failed fold start chosen by auto is run again with the sparse pose
-# start; one set by hand names it
+# 10: the fold start reaches the end of the path of a sheet that the limit
+# start could not leave, at the sparse pose start's state
 "$bin" pattern miura --cells=3x2 --gravity --load=0.01 -o "$tmp/m32.gen.cfg" >/dev/null 2>&1
 sed 's/^\(  { name = "[a-z0-9]*"; rest_angle = \)-\{0,1\}[0-9.]*;/\10.0;/' "$tmp/m32.gen.cfg" >"$tmp/m32l.cfg"
 "$bin" run "$tmp/m32l.cfg" -q -o "$tmp/m32l" --set output.shapes=0 --set analysis.stability=false \
     >"$tmp/m32l.out" 2>&1
 a=$?
-pend=$(grep -v '^#' "$tmp/m32l/branch.tsv" 2>/dev/null | tail -n 1 | cut -f 4)
 k=$(keys "$tmp/m32l")
-"$bin" run "$tmp/m32l.cfg" -q -o "$tmp/m32lf" --set output.shapes=0 --set analysis.stability=false \
-    --set solver.formulation='"folds"' >"$tmp/m32lf.out" 2>&1
+"$bin" run "$tmp/m32l.cfg" -q -o "$tmp/m32lp" --set output.shapes=0 --set analysis.stability=false \
+    $poses >"$tmp/m32lp.out" 2>&1
 b=$?
+d=$(awk -F '\t' 'FNR == 1 {f++; h = 0} /^#/ {next} !h {for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next}
+        {last[f] = $0}
+        END {split(last[1], x, "\t"); split(last[2], y, "\t");
+             du = x[c["probe1_uz"]] - y[c["probe1_uz"]]; du = du < 0 ? -du : du;
+             de = x[c["energy"]] - y[c["energy"]]; de = de < 0 ? -de : de; s = y[c["energy"]]; s = s < 0 ? -s : s;
+             printf "%s %s %.3g %.3g", x[c["p"]], y[c["p"]], du, de / s}' \
+     "$tmp/m32l/branch.tsv" "$tmp/m32lp/branch.tsv" 2>/dev/null)
+set -- $d
 r=0
-[ "$a" = 0 ] && [ "$pend" = 2 ] && [ "$k" = "poses sparse sum" ] &&
-    grep -q '^# auto: the fold formulation.s flat start found no first point; run again with solver.formulation = "poses", analysis.flat_start = "sparse" (it said: .*off the flat state in the fold formulation (limit start' "$tmp/m32l/branch.tsv" &&
-    [ "$b" = 3 ] && grep -q 'off the flat state in the fold formulation (another start to try: solver.formulation = "poses", analysis.flat_start = "sparse")' "$tmp/m32lf.out" && r=1
-check $r "3x2 under gravity and a tip load: auto runs it again with the sparse pose start, to p = $pend (exit $a; study.cfg: $k); folds set by hand: exit $b naming that start"
+[ "$a" = 0 ] && [ "$b" = 0 ] && [ "$k" = "folds multipliers sum" ] && [ "$1" = 2 ] && [ "$2" = 2 ] &&
+    ! grep -q '^# auto' "$tmp/m32l/branch.tsv" &&
+    awk -v u="$3" -v e="$4" 'BEGIN {exit !(u <= 1e-9 && e <= 1e-8)}' && r=1
+check $r "3x2 under gravity and a tip load: the fold start reaches p = $1 (exit $a; study.cfg: $k), the sparse pose start p = $2 (exit $b); tip uz $3 m, energy $4 relative apart"

@@ -1,6 +1,7 @@
 #!/bin/sh
-# test_flatstart.sh - exact loop closure starting at the flat state
-# (src/analysis/start/flatcone.c, docs/flatstart.md): the branch the driving
+# test_flatstart.sh - exact loop closure starting at the flat state by the
+# limit start (analysis.flat_start = "limit"; src/analysis/start/flatcone.c,
+# docs/flatstart.md): the branch the driving
 # selects on the tangent cone, for each generated pattern and square4;
 # symmetric driving of a symmetric sheet gives a symmetric state; a start
 # that finds no branch ends with a diagnosis, not a stall at ds_min.
@@ -16,12 +17,15 @@ gen_flat() {   # output, pattern options...
     "$bin" pattern "$@" -o "$out.gen.cfg" 2>/dev/null &&
         sed 's/^\(  { name = "[a-z0-9]*"; rest_angle = \)-\{0,1\}[0-9.]*;/\10.0;/' "$out.gen.cfg" >"$out"
 }
+# this file tests the limit start (the default start is the method of
+# multipliers, tests/test_start.sh), so every run asks for it
+run_limit() { "$bin" run "$@" --set 'analysis.flat_start="limit"'; }
 echo "1..16"
 
 # 1-4: each pattern folds from flat with exact closure to the end of its path
 run_flat() {   # name, study, extra args
     name=$1; study=$2; shift 2
-    "$bin" run "$study" "$@" -q -o "$tmp/$name" >"$tmp/$name.out" 2>&1
+    run_limit "$study" "$@" -q -o "$tmp/$name" >"$tmp/$name.out" 2>&1
     st=$?
     b="$tmp/$name/branch.tsv"
     if [ $st = 0 ] && [ "$(col "$b" type)" = EP ] && grep -q '^# flat start: .*stable branch' "$b" &&
@@ -41,7 +45,7 @@ run_flat square4-load "$src/studies/square4.cfg" --set output.shapes=0
 # 5: a waterbomb base (degree 6) with all its folds driven: symmetric
 # state, the four valleys equal and the two mountains equal (1e-9)
 "$bin" pattern waterbomb --cells=1x1 --drive=all -o "$tmp/wa.cfg" 2>/dev/null
-"$bin" run "$tmp/wa.cfg" -q -o "$tmp/wa" >"$tmp/wa.out" 2>&1
+run_limit "$tmp/wa.cfg" -q -o "$tmp/wa" >"$tmp/wa.out" 2>&1
 st=$?
 b="$tmp/wa/branch.tsv"
 if [ $st = 0 ] && awk -v a="$(col "$b" theta1)" -v b2="$(col "$b" theta2)" -v c="$(col "$b" theta3)" \
@@ -57,7 +61,7 @@ else
 fi
 
 # 6: the same study, a branch that is not there: one line naming the key
-"$bin" run "$tmp/wa.cfg" --set solver.flat_branch=4 -q -o "$tmp/wa4" >"$tmp/wa4.out" 2>&1
+run_limit "$tmp/wa.cfg" --set solver.flat_branch=4 -q -o "$tmp/wa4" >"$tmp/wa4.out" 2>&1
 st=$?
 if [ $st != 0 ] && [ "$(wc -l <"$tmp/wa4.out")" = 1 ] && grep -q 'solver.flat_branch = 4, but the flat state has 2 stable branches' "$tmp/wa4.out"; then
     ok "solver.flat_branch beyond the branches found: exit $st, one line"
@@ -69,7 +73,7 @@ fi
 # flat state's residual (1.4e-14 of rounding) had been taken for a
 # non-flat start
 "$bin" pattern miura --cells=3x3 --set analysis.end=0.1 -o "$tmp/m3.cfg" 2>/dev/null
-"$bin" run "$tmp/m3.cfg" -q -o "$tmp/m3" >"$tmp/m3.out" 2>&1
+run_limit "$tmp/m3.cfg" -q -o "$tmp/m3" >"$tmp/m3.out" 2>&1
 st=$?
 b="$tmp/m3/branch.tsv"
 if [ $st = 0 ] && [ "$(col "$b" type)" = EP ] && grep -q '^# flat start' "$b"; then
@@ -89,7 +93,7 @@ fi
 # little; test 15 asserts it in poses, with an eigenvalue)
 gen_flat "$tmp/ml.cfg" miura --load=0.01
 for f in folds poses; do
-    "$bin" run "$tmp/ml.cfg" --set solver.formulation="\"$f\"" --set output.shapes=0 -q -o "$tmp/ml-$f" >"$tmp/ml-$f.out" 2>&1
+    run_limit "$tmp/ml.cfg" --set solver.formulation="\"$f\"" --set output.shapes=0 -q -o "$tmp/ml-$f" >"$tmp/ml-$f.out" 2>&1
     echo $? >"$tmp/ml-$f.st"
 done
 b="$tmp/ml-folds/branch.tsv"
@@ -116,7 +120,7 @@ at() { awk -F'\t' -v c="$2" -v p="$3" '/^#/ {next} !h {for (k = 1; k <= NF; k++)
 # the straight line of the two mountain folds alone (valleys flat to
 # 1e-9, mountains equal); the branch followed by default has the lower
 # energy at every p, here at p = 1
-"$bin" run "$tmp/wa.cfg" --set solver.flat_branch=2 --set analysis.stability=true -q -o "$tmp/wa2" >"$tmp/wa2.out" 2>&1
+run_limit "$tmp/wa.cfg" --set solver.flat_branch=2 --set analysis.stability=true -q -o "$tmp/wa2" >"$tmp/wa2.out" 2>&1
 st=$?
 b1="$tmp/wa/branch.tsv"; b2="$tmp/wa2/branch.tsv"
 if [ $st = 0 ] && [ "$(col "$b2" p)" = 1 ] && [ "$(col "$b2" stable)" = 1 ] &&
@@ -138,7 +142,7 @@ fi
 # corrector solves the anchored system first after a residual floor, 37
 # before)
 gen_flat "$tmp/mL.cfg" miura --load=1
-"$bin" run "$tmp/mL.cfg" --set analysis.end=0.2 --set output.shapes=0 -q -o "$tmp/mL" >"$tmp/mL.out" 2>&1
+run_limit "$tmp/mL.cfg" --set analysis.end=0.2 --set output.shapes=0 -q -o "$tmp/mL" >"$tmp/mL.out" 2>&1
 st=$?
 b="$tmp/mL/branch.tsv"
 if [ $st = 0 ] && [ "$(col "$b" p)" = 0.2 ] && grep -q '^# flat start: the driving.s branch is a degenerate ray' "$b" &&
@@ -161,7 +165,7 @@ fi
 # pose formulation reaches the same state (probe and energy, 1e-9)
 "$bin" pattern waterbomb --cells=2x2 --drive=all -o "$tmp/wb.cfg" 2>/dev/null
 for f in folds poses; do
-    "$bin" run "$tmp/wb.cfg" --set solver.formulation="\"$f\"" --set solver.tolerance=1e-11 \
+    run_limit "$tmp/wb.cfg" --set solver.formulation="\"$f\"" --set solver.tolerance=1e-11 \
         --set output.shapes=0 -q -o "$tmp/wb-$f" >"$tmp/wb-$f.out" 2>&1
     echo $? >"$tmp/wb-$f.st"
 done
@@ -191,7 +195,7 @@ gen_flat "$tmp/wL.cfg" waterbomb --cells=1x1 --load=1
 bad=""
 for c in yL wL; do
     for f in folds poses; do
-        "$bin" run "$tmp/$c.cfg" --set solver.formulation="\"$f\"" --set solver.tolerance=1e-12 \
+        run_limit "$tmp/$c.cfg" --set solver.formulation="\"$f\"" --set solver.tolerance=1e-12 \
             --set output.shapes=0 -q -o "$tmp/$c-$f" >/dev/null 2>&1 || bad="$bad $c-$f"
     done
     awk -v a="$(col "$tmp/$c-folds/branch.tsv" probe1_uz)" -v b="$(col "$tmp/$c-poses/branch.tsv" probe1_uz)" \
@@ -207,10 +211,10 @@ fi
 
 # 14: Yoshimura's two stable branches: the default one has the lower
 # energy at the same p (p = 1), and both stay stable
-"$bin" run "$tmp/yL.cfg" --set solver.flat_branch=2 --set output.shapes=0 --set analysis.stability=true \
+run_limit "$tmp/yL.cfg" --set solver.flat_branch=2 --set output.shapes=0 --set analysis.stability=true \
     -q -o "$tmp/yL2" >"$tmp/yL2.out" 2>&1
 st=$?
-"$bin" run "$tmp/yL.cfg" --set output.shapes=0 --set analysis.stability=true -q -o "$tmp/yL1" >/dev/null 2>&1
+run_limit "$tmp/yL.cfg" --set output.shapes=0 --set analysis.stability=true -q -o "$tmp/yL1" >/dev/null 2>&1
 if [ $st = 0 ] && [ "$(col "$tmp/yL2/branch.tsv" p)" = 1 ] && [ "$(col "$tmp/yL1/branch.tsv" p)" = 1 ] &&
    [ "$(col "$tmp/yL1/branch.tsv" stable)" = 1 ] && [ "$(col "$tmp/yL2/branch.tsv" stable)" = 1 ] &&
    awk -v e1="$(col "$tmp/yL1/branch.tsv" energy)" -v e2="$(col "$tmp/yL2/branch.tsv" energy)" 'BEGIN {exit !(e1 < e2)}'; then

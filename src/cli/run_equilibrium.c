@@ -274,10 +274,10 @@ static int start_by_multipliers(run_ctx *r, double *y0, double start, double end
  * closure, interior vertices), with none of the three keys set and no
  * feature of the fold formulation only in use (the loop penalty; every
  * branch at the flat state, analysis.branch_depth >= 1), they are
- * "poses", "sparse", "rms"; otherwise "folds", "limit", "sum", the
- * defaults before "auto", so that a study or command that sets any of
- * them runs as before (and an explicit combination that does not work,
- * such as "sparse" with "folds", gives the same error).  The choices
+ * "poses", "sparse", "rms"; otherwise "folds", "multipliers" ("limit"
+ * above the threshold and with branch_depth >= 1), "sum", so that a study
+ * or command that sets any of them runs as before (and an explicit combination that does not
+ * work, such as "sparse" with "folds", gives the same error).  The choices
  * are written back into the study (DIR/study.cfg records what was run; the
  * K+1 run of analysis.convergence, a larger problem, keeps them), and a
  * sheet above the threshold gets one header line saying what auto chose
@@ -312,7 +312,11 @@ static int choose_keys(run_ctx *r, const char **form, const char **fs, const cha
     int big = large && !why;
     r->auto_small = af && as && an && !why && !large;   /* run.c may retry in poses */
     if (af) *form = big ? "poses" : "folds";
-    if (as) *fs = big ? "sparse" : "limit";   /* "multipliers" works in either formulation */
+    /* below the threshold the method of multipliers (start.h); above it,
+     * where a key keeps the fold formulation's defaults, and for every
+     * branch at the flat state (branch_depth >= 1, the tangent cone of
+     * flatswitch.h), the limit start */
+    if (as) *fs = big ? "sparse" : large || (depth >= 1 && eq->nloop > 0) ? "limit" : "multipliers";
     if (an) *norm = big ? "rms" : "sum";
     if ((af && sf_study_set_string(s, "solver.formulation", *form, err)) ||
         (as && sf_study_set_string(s, "analysis.flat_start", *fs, err)) ||
@@ -331,7 +335,7 @@ static int choose_keys(run_ctx *r, const char **form, const char **fs, const cha
                  eq->n, lim, keys);
     else
         snprintf(line, sizeof line, "auto: %d unknowns in fold coordinates, above solver.auto_unknowns = %d, "
-                 "but %s: %s as below it", eq->n, lim, why, keys);
+                 "but %s: %s (the fold formulation's)", eq->n, lim, why, keys);
     sf_outbuf_printf(&r->header, "# %s\n", line);
     if (!r->opt->quiet) fprintf(stderr, "%s\n", line);
     return SF_OK;
