@@ -36,10 +36,15 @@
 #     the default run reaches the end of its path, p = 2 (exit 0, no
 #     second run, folds/multipliers/sum), at the state of the explicit
 #     sparse pose start's run (tip uz to 1e-9 m, energy to 1e-8 relative).
+# 11: the 2x2 sheet under a 1 N tip load (pattern miura --load=1, rest
+#     angles 0, to p = 0.2), whose start by the method of multipliers
+#     leaves on a branch the path cannot follow (the fold along the straight
+#     crease line): the run goes again with the limit start, says so in
+#     its header, and is the explicit limit run but for that line.
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 . "$src/tests/tap.sh"
-echo "1..10"
+echo "1..11"
 check() { if [ "$1" = 1 ]; then ok "$2"; else nok "$2"; fi; }
 sh "$src/bench/miura-study.sh" 2 actuation 1 >"$tmp/m2.cfg"
 run() {   # run NAME [SETTING...]: exit status
@@ -177,3 +182,20 @@ r=0
     ! grep -q '^# auto' "$tmp/m32l/branch.tsv" &&
     awk -v u="$3" -v e="$4" 'BEGIN {exit !(u <= 1e-9 && e <= 1e-8)}' && r=1
 check $r "3x2 under gravity and a tip load: the fold start reaches p = $1 (exit $a; study.cfg: $k), the sparse pose start p = $2 (exit $b); tip uz $3 m, energy $4 relative apart"
+
+# 11: the start by the method of multipliers whose path stops at its first
+# point: the same run again with the limit start
+"$bin" pattern miura --load=1 -o "$tmp/ml1.gen.cfg" >/dev/null 2>&1
+sed 's/^\(  { name = "[a-z0-9]*"; rest_angle = \)-\{0,1\}[0-9.]*;/\10.0;/' "$tmp/ml1.gen.cfg" >"$tmp/ml1.cfg"
+"$bin" run "$tmp/ml1.cfg" -q -o "$tmp/ml1" --set output.shapes=0 --set analysis.end=0.2 >"$tmp/ml1.out" 2>&1
+a=$?
+"$bin" run "$tmp/ml1.cfg" -q -o "$tmp/ml1l" --set output.shapes=0 --set analysis.end=0.2 \
+    --set "$S=\"limit\"" >"$tmp/ml1l.out" 2>&1
+b=$?
+k=$(keys "$tmp/ml1")
+pend=$(grep -v '^#' "$tmp/ml1/branch.tsv" 2>/dev/null | tail -n 1 | cut -f 4)
+r=0
+[ "$a" = 0 ] && [ "$b" = 0 ] && [ "$pend" = 0.2 ] && [ "$k" = "folds limit sum" ] &&
+    grep -q '^# auto: the .*start by the method of multipliers .*; run again with analysis.flat_start = "limit" (it said: ' "$tmp/ml1/branch.tsv" &&
+    grep -v '^# auto' "$tmp/ml1/branch.tsv" | cmp -s - "$tmp/ml1l/branch.tsv" && r=1
+check $r "2x2 under a 1 N tip load: run again with the limit start to p = $pend (exit $a; study.cfg: $k), the explicit limit run's branch.tsv"

@@ -60,19 +60,18 @@ static void run_release(run_ctx *r)
     r->held_y = NULL;
 }
 
-/* The fold formulation's flat start, chosen by "auto" for a small sheet,
- * found no first point: the same study again with the sparse pose start,
- * which starts sheets where that one fails (docs/flatstart.md, "Limits");
- * branch.tsv's header says why. */
-static int run_again_in_poses(run_ctx *r, sf_error *err)
+/* The start by the method of multipliers, chosen by "auto" for a small
+ * sheet, found no first point, or the path could not go past it (the
+ * branch of least energy it leaves on can run along nearly dependent loop
+ * rows: the 2x2 Miura under a tip load of 1 N folds along its straight
+ * crease line, docs/design/start.md): the same study again with the limit
+ * start, which follows the branch the driving selects on the tangent cone
+ * (docs/flatstart.md); branch.tsv's header says why. */
+static int run_again_with_limit(run_ctx *r, sf_error *err)
 {
     char why[700];
     snprintf(why, sizeof why, "%.690s", err->msg);
-    char *hint = strstr(why, SF_FLAT_POSES_HINT);   /* the advice being taken */
-    if (hint) {
-        const char *rest = hint + strlen(SF_FLAT_POSES_HINT);
-        memmove(hint, rest, strlen(rest) + 1);
-    }
+    int started = r->npoints > 1;
     sf_scene *sc = r->sc;
     const sf_options *opt = r->opt;
     sf_compare *cmp = r->cmp;
@@ -87,12 +86,12 @@ static int run_again_in_poses(run_ctx *r, sf_error *err)
     memcpy(r->dir, dir, sizeof dir);
     sf_error_clear(err);
     sf_study *s = &r->sc->study;
-    if (sf_study_set_string(s, "solver.formulation", "poses", err) ||
-        sf_study_set_string(s, "analysis.flat_start", "sparse", err) || run_open(r, err))
+    if (sf_study_set_string(s, "analysis.flat_start", "limit", err) || run_open(r, err))
         return err->code;
-    const char *line = "auto: the fold formulation's flat start found no first point; run "
-                       "again with solver.formulation = \"poses\", analysis.flat_start = "
-                       "\"sparse\"";
+    const char *line = started ? "auto: the path from the start by the method of multipliers stopped "
+                                 "at its first point; run again with analysis.flat_start = \"limit\""
+                               : "auto: the start by the method of multipliers found no first point; "
+                                 "run again with analysis.flat_start = \"limit\"";
     sf_outbuf_printf(&r->header, "# %s (it said: %s)\n", line, why);
     if (!r->opt->quiet) fprintf(stderr, "smoothfold: %s\n", line);
     return run_equilibrium(r);
@@ -145,7 +144,8 @@ int sf_cmd_run(const sf_options *o, sf_error *err)
     if (!rc) rc = run_open(&r, err);
     if (!rc) {
         rc = run_equilibrium(&r);
-        if (rc == SF_ENUMERIC && r.retry_poses) rc = run_again_in_poses(&r, err);
+        if (rc == SF_ENUMERIC && r.auto_small && r.multipliers_start && r.npoints <= 2)
+            rc = run_again_with_limit(&r, err);
         if (rc == SF_ENUMERIC && r.npoints > 0) {
             /* keep the path up to where it stopped: complete files whose
              * header says why it stopped; the exit status stays non-zero */

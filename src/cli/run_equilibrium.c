@@ -188,7 +188,6 @@ static int start_at_flat(run_ctx *r, double *y0, double start, double end, doubl
     if (fi.note[0]) run_branch_note(r, "%s", fi.note);
     if (rc) {
         *ret = explain_start_failure(r);
-        r->retry_poses = r->auto_small && !eq->pz && *ret == SF_ENUMERIC;
         return 1;
     }
     if (depth >= 1 && !eq->pz && !r->failed) {
@@ -221,6 +220,7 @@ static int start_by_multipliers(run_ctx *r, double *y0, double start, double end
     cont_solver *cs = r->solver;
     if (write_flat_point(r, y0, start)) return *ret = err->code, 1;
     r->s_offset = -1.0;   /* set from the first point (run_on_point) */
+    r->multipliers_start = 1;
     int fb = 1;
     if (sf_study_int(s, "solver.flat_branch", 1, &fb, err)) return *ret = err->code, 1;
     if (fb > 2)
@@ -282,8 +282,8 @@ static int start_by_multipliers(run_ctx *r, double *y0, double start, double end
  * K+1 run of analysis.convergence, a larger problem, keeps them), and a
  * sheet above the threshold gets one header line saying what auto chose
  * and why.  Where all three were "auto" and the sheet is small, r->auto_small
- * lets run.c run the study again with the sparse pose start if the fold
- * formulation's flat start fails.  *form, *fs, *norm: string literals or
+ * lets run.c run the study again with the limit start if the start by the
+ * method of multipliers fails or its path stops at its first point.  *form, *fs, *norm: string literals or
  * the study's values. */
 static int choose_keys(run_ctx *r, const char **form, const char **fs, const char **norm)
 {
@@ -310,7 +310,7 @@ static int choose_keys(run_ctx *r, const char **form, const char **fs, const cha
                       : !an ? "analysis.step_norm is set"
                             : NULL;
     int big = large && !why;
-    r->auto_small = af && as && an && !why && !large;   /* run.c may retry in poses */
+    r->auto_small = af && as && an && !why && !large;   /* run.c may retry with "limit" */
     if (af) *form = big ? "poses" : "folds";
     /* below the threshold the method of multipliers (start.h); above it,
      * where a key keeps the fold formulation's defaults, and for every

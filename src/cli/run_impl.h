@@ -85,11 +85,12 @@ typedef struct run_ctx {
     /* physical validity of every point written (validity.h): the warning
      * column of branch.tsv, and the summary at the end of the run */
     run_validity vt;
-    /* "auto" chose the fold formulation for a small sheet with loops
-     * (choose_keys), and its flat start found no first point: run.c runs
-     * the study again with the sparse pose start */
+    /* "auto" chose the start by the method of multipliers for a small
+     * sheet with loops (choose_keys); multipliers_start: that start ran.
+     * If it found no first point, or the path stopped before its second,
+     * run.c runs the study again with the limit start */
     int auto_small;
-    int retry_poses;
+    int multipliers_start;
 } run_ctx;
 
 /* run_equilibrium.c: set up the equilibrium problem and the continuation
