@@ -276,15 +276,16 @@ static int start_by_multipliers(run_ctx *r, double *y0, double start, double end
  * branch at the flat state, analysis.branch_depth >= 1), they are
  * "poses", "sparse", "rms"; otherwise "folds", "multipliers" ("limit"
  * above the threshold and with branch_depth >= 1), "sum", so that a study
- * or command that sets any of them runs as before (and an explicit combination that does not
- * work, such as "sparse" with "folds", gives the same error).  The choices
- * are written back into the study (DIR/study.cfg records what was run; the
- * K+1 run of analysis.convergence, a larger problem, keeps them), and a
- * sheet above the threshold gets one header line saying what auto chose
- * and why.  Where all three were "auto" and the sheet is small, r->auto_small
- * lets run.c run the study again with the limit start if the start by the
- * method of multipliers fails or its path stops at its first point.  *form, *fs, *norm: string literals or
- * the study's values. */
+ * or command that sets any of them runs as before (and an explicit
+ * combination that does not work, such as "sparse" with "folds", gives
+ * the same error).  The choices are written back into the study
+ * (DIR/study.cfg records what was run; the K+1 run of
+ * analysis.convergence, a larger problem, keeps them), and a sheet above
+ * the threshold gets one header line saying what auto chose and why.
+ * Where all three were "auto" and the sheet is small, r->auto_small lets
+ * run.c run the study again with the limit start if the start by the
+ * method of multipliers fails or its path stops at its first point.
+ * *form, *fs, *norm: string literals or the study's values. */
 static int choose_keys(run_ctx *r, const char **form, const char **fs, const char **norm)
 {
     sf_study *s = &r->sc->study;
