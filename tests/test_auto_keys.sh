@@ -53,6 +53,17 @@ run() {   # run NAME [SETTING...]: exit status
         >"$tmp/$name.out" 2>&1
     echo $?
 }
+last_diff() {   # last_diff A B: the last rows of two branch.tsv files: p of each,
+    # |probe1_uz| difference, largest fold-angle difference, energy
+    # difference relative to B's
+    awk -F '\t' 'FNR == 1 {f++; h = 0} /^#/ {next} !h {for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next}
+        {last[f] = $0}
+        END {split(last[1], x, "\t"); split(last[2], y, "\t");
+             du = x[c["probe1_uz"]] - y[c["probe1_uz"]]; du = du < 0 ? -du : du; dt = 0;
+             for (j in c) if (j ~ /^theta/) { e = x[c[j]] - y[c[j]]; e = e < 0 ? -e : e; if (e > dt) dt = e }
+             de = x[c["energy"]] - y[c["energy"]]; de = de < 0 ? -de : de; s = y[c["energy"]]; s = s < 0 ? -s : s
+             printf "%s %s %.3g %.3g %.3g", x[c["p"]], y[c["p"]], du, dt, de / s}' "$1" "$2" 2>/dev/null
+}
 keys() {   # keys DIR: the three values recorded in DIR/study.cfg
     awk '/^ *(formulation|flat_start|step_norm) = / {gsub(/[";]/, ""); v[$1] = $3}
          END {print v["formulation"], v["flat_start"], v["step_norm"]}' "$1/study.cfg"
@@ -137,20 +148,14 @@ r=0
 check $r "convergence: the K+1 run (126 unknowns, threshold 110) keeps folds/multipliers/sum (exit $a; study.cfg: $k)"
 
 # 9: the 2x2 sheet under gravity and a tip load: the fold start follows
-# the degenerate ray and ends at the pose run's state
+# the end of its path and ends at the pose run's state
 sh "$src/bench/miura-study.sh" 2 load 1 >"$tmp/m2l.cfg"
 "$bin" run "$tmp/m2l.cfg" -q -o "$tmp/m2l" --set output.shapes=0 >"$tmp/m2l.out" 2>&1
 a=$?
 "$bin" run "$tmp/m2l.cfg" -q -o "$tmp/m2lp" --set output.shapes=0 $poses >"$tmp/m2lp.out" 2>&1
 b=$?
 k=$(keys "$tmp/m2l")
-d=$(awk -F '\t' 'FNR == 1 {f++; h = 0} /^#/ {next} !h {for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next}
-        {last[f] = $0}
-        END {n = split(last[1], x, "\t"); split(last[2], y, "\t");
-             du = x[c["probe1_uz"]] - y[c["probe1_uz"]]; du = du < 0 ? -du : du; dt = 0;
-             for (j in c) if (j ~ /^theta/) { e = x[c[j]] - y[c[j]]; e = e < 0 ? -e : e; if (e > dt) dt = e }
-             printf "%s %s %.3g %.3g", x[c["p"]], y[c["p"]], du, dt}' \
-     "$tmp/m2l/branch.tsv" "$tmp/m2lp/branch.tsv" 2>/dev/null)
+d=$(last_diff "$tmp/m2l/branch.tsv" "$tmp/m2lp/branch.tsv")
 set -- $d
 r=0
 [ "$a" = 0 ] && [ "$b" = 0 ] && [ "$k" = "folds multipliers sum" ] && [ "$1" = 1 ] && [ "$2" = 1 ] &&
@@ -169,19 +174,13 @@ k=$(keys "$tmp/m32l")
 "$bin" run "$tmp/m32l.cfg" -q -o "$tmp/m32lp" --set output.shapes=0 --set analysis.stability=false \
     $poses >"$tmp/m32lp.out" 2>&1
 b=$?
-d=$(awk -F '\t' 'FNR == 1 {f++; h = 0} /^#/ {next} !h {for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next}
-        {last[f] = $0}
-        END {split(last[1], x, "\t"); split(last[2], y, "\t");
-             du = x[c["probe1_uz"]] - y[c["probe1_uz"]]; du = du < 0 ? -du : du;
-             de = x[c["energy"]] - y[c["energy"]]; de = de < 0 ? -de : de; s = y[c["energy"]]; s = s < 0 ? -s : s;
-             printf "%s %s %.3g %.3g", x[c["p"]], y[c["p"]], du, de / s}' \
-     "$tmp/m32l/branch.tsv" "$tmp/m32lp/branch.tsv" 2>/dev/null)
+d=$(last_diff "$tmp/m32l/branch.tsv" "$tmp/m32lp/branch.tsv")
 set -- $d
 r=0
 [ "$a" = 0 ] && [ "$b" = 0 ] && [ "$k" = "folds multipliers sum" ] && [ "$1" = 2 ] && [ "$2" = 2 ] &&
     ! grep -q '^# auto' "$tmp/m32l/branch.tsv" &&
-    awk -v u="$3" -v e="$4" 'BEGIN {exit !(u <= 1e-9 && e <= 1e-8)}' && r=1
-check $r "3x2 under gravity and a tip load: the fold start reaches p = $1 (exit $a; study.cfg: $k), the sparse pose start p = $2 (exit $b); tip uz $3 m, energy $4 relative apart"
+    awk -v u="$3" -v e="$5" 'BEGIN {exit !(u <= 1e-9 && e <= 1e-8)}' && r=1
+check $r "3x2 under gravity and a tip load: the fold start reaches p = $1 (exit $a; study.cfg: $k), the sparse pose start p = $2 (exit $b); tip uz $3 m, energy $5 relative apart"
 
 # 11: the start by the method of multipliers whose path stops at its first
 # point: the same run again with the limit start
