@@ -33,9 +33,10 @@
 #     set-back end at a vertex on the outline meets the face beside it
 #     only where the model leaves a gap, as at interior vertices).
 #  8: Rabbit Ear's wavy Miura (tests/public/rabbit-ear/wavy-miura-no-faces.fold,
-#     as imported: K = 1): no closed state, exit 3 in one line that
+#     imported with --modes=1): no closed state, exit 3 in one line that
 #     names defaults.modes = 2 (its 294 loop rows outnumber its 224 fold
-#     coordinates; `check` says so in a note, not at K = 2); with
+#     coordinates; `check` says so in a note, not at K = 2); import without
+#     --modes writes K = 2 for that count, and says so in a comment; with
 #     defaults.modes = 2 it folds to p = 1 in face poses and in fold
 #     coordinates, every point closed (rotation rows
 #     1e-10, translation rows 1e-12 m), stable at every point (poses),
@@ -188,7 +189,8 @@ else
 fi
 
 # 8
-"$bin" import "$src/tests/public/rabbit-ear/wavy-miura-no-faces.fold" -o "$tmp/wv.cfg" >/dev/null 2>&1
+"$bin" import "$src/tests/public/rabbit-ear/wavy-miura-no-faces.fold" --modes=1 -o "$tmp/wv.cfg" >/dev/null 2>&1
+"$bin" import "$src/tests/public/rabbit-ear/wavy-miura-no-faces.fold" -o "$tmp/wvd.cfg" >/dev/null 2>&1
 "$bin" run "$tmp/wv.cfg" -q -o "$tmp/wv1" --set 'analysis.flat_start="multipliers"' --set output.shapes=0 \
     >"$tmp/wv1.out" 2>&1; s1=$?
 "$bin" run "$tmp/wv.cfg" -q -o "$tmp/wvp" --set 'analysis.flat_start="multipliers"' --set defaults.modes=2 \
@@ -205,11 +207,12 @@ d=$(diff_states "$(state "$tmp/wvp/branch.tsv")" "$(state "$tmp/wvf/branch.tsv")
 "$bin" check "$tmp/wv.cfg" >"$tmp/wvc1.out" 2>&1
 "$bin" check "$tmp/wv.cfg" --set defaults.modes=2 >"$tmp/wvc2.out" 2>&1
 if [ $s1 = 3 ] && [ "$(wc -l <"$tmp/wv1.out")" -eq 1 ] && grep -q 'try --set defaults.modes=2' "$tmp/wv1.out" &&
+   grep -q '^  modes = 2;' "$tmp/wvd.cfg" && grep -q '^# K = 2 shape modes: with K = 1 the 112 folds. 224 coordinates' "$tmp/wvd.cfg" &&
    grep -q '^note: the loops have 294 rows for 224 fold coordinates' "$tmp/wvc1.out" && ! grep -q '^note: the loops' "$tmp/wvc2.out" &&
    [ $sp = 0 ] && [ $sf = 0 ] && [ "${cp_#* }" = 0 ] && [ "${cf#* }" = 0 ] &&
    [ "$(state "$tmp/wvp/branch.tsv" | cut -f1)" = 1 ] && [ "$(state "$tmp/wvf/branch.tsv" | cut -f1)" = 1 ] &&
    awk -v d="$d" 'BEGIN {exit !(d != "mismatch" && d + 0 <= 1e-8)}'; then
-    ok "wavy Miura: K = 1 stops naming defaults.modes = 2 (run and check); K = 2 folds to p = 1 (${cp_% *} points in poses, stable, ${cf% *} in folds, all closed), formulations equal to $d"
+    ok "wavy Miura: K = 1 stops naming defaults.modes = 2 (run and check); import writes K = 2; K = 2 folds to p = 1 (${cp_% *} points in poses, stable, ${cf% *} in folds, all closed), formulations equal to $d"
 else
     nok "wavy Miura: K = 1 exit $s1, K = 2 exit $sp (poses) $sf (folds), points and unclosed '$cp_' '$cf', difference $d"
     head -c 400 "$tmp/wv1.out" | sed 's/^/#   /'; tail -1 "$tmp/wvp.out" "$tmp/wvf.out" | sed 's/^/#   /'

@@ -46,7 +46,9 @@ static const char *pattern_usage =
     "                          target angles, as Origami Simulator's fold percent\n"
     "                          (default 100)\n"
     "      --modes=K           shape modes per fold (defaults.modes, default 1:\n"
-    "                          degree-4 vertices lock with 0)\n"
+    "                          degree-4 vertices lock with 0; import: the\n"
+    "                          smallest K >= 1 with as many fold coordinates\n"
+    "                          as loop rows, 2 for degree-4 vertices)\n"
     "      --drive=GROUP       actuation group driven along the path: mountain,\n"
     "                          valley or all (default all; waterbomb: valley)\n"
     "      --gravity           gravity as load stage 1 (the analysis becomes a load path)\n"
@@ -284,6 +286,7 @@ int sf_cmd_pattern(int argc, char **argv, sf_error *err)
     popts p;
     memset(&p, 0, sizeof p);
     sf_cp_study_opts_default(&p.s);
+    if (argc > 0 && strcmp(argv[0], "import") == 0) p.s.modes = -1;   /* by the loop rows */
     sf_import_opts_default(&p.io);
     p.sets = calloc((size_t)argc + 1, sizeof *p.sets);
     if (!p.sets) return sf_fail(err, SF_ENOMEM, "out of memory");

@@ -48,6 +48,8 @@ typedef struct plan {
     int w_fitted;               /* 1: narrowed so that every band keeps a quarter of its fold */
     int halved;                 /* k: the automatic width halved k times to fit the faces */
     double fixed[2], probe[2];
+    int modes;                  /* defaults.modes written */
+    int ninterior;              /* interior vertices (fold ends off the outline) */
 } plan;
 
 static void plan_free(plan *p)
@@ -168,6 +170,32 @@ static double fold_len(const plan *p, int k)
     return p->cp->unit * hypot(b[0] - a[0], b[1] - a[1]);
 }
 
+/* defaults.modes: the option's K, or (o->modes < 0, import's default) the
+ * smallest K >= 1 whose fold coordinates, K + 1 a fold, are at least the
+ * loop rows, 6 at each interior vertex (MODEL.md 4): a sheet of degree-4
+ * vertices, about two folds a vertex, has 4 coordinates a vertex for 6 rows
+ * with K = 1 and closes only where rows happen to be dependent, while a
+ * sheet of degree-6 vertices keeps K = 1. */
+static void plan_modes(plan *p, const int *loop, int nl)
+{
+    const sf_cpattern *cp = p->cp;
+    char *mark = calloc((size_t)cp->nv + 1, 1);   /* 1 outline, 2 counted */
+    p->ninterior = 0;
+    if (mark) {
+        for (int i = 0; i < nl; i++) mark[loop[i]] = 1;
+        for (int k = 0; k < p->nfold; k++)
+            for (int j = 0; j < 2; j++) {
+                int v = p->fold_end[k][j];
+                if (!mark[v]) mark[v] = 2, p->ninterior++;
+            }
+        free(mark);
+    }
+    p->modes = p->o->modes;
+    if (p->modes >= 0) return;
+    p->modes = 1;
+    while (p->modes < 3 && (p->modes + 1) * p->nfold < 6 * p->ninterior) p->modes++;
+}
+
 static int plan_make(plan *p, const sf_cpattern *cp, const sf_cp_study_opts *o, sf_error *err)
 {
     memset(p, 0, sizeof *p);
@@ -194,6 +222,7 @@ static int plan_make(plan *p, const sf_cpattern *cp, const sf_cp_study_opts *o, 
         return sf_fail(err, SF_ENOMEM, "out of memory");
     }
     if (plan_folds(p, lastedge, err)) { free(loop); free(lastedge); return err->code; }
+    plan_modes(p, loop, nl);
     double lmin = INFINITY;
     for (int k = 0; k < p->nfold; k++) {
         lmin = fmin(lmin, fold_len(p, k));
@@ -340,9 +369,13 @@ static void emit(const plan *p, sf_outbuf *b, const char *name)
         sf_outbuf_printf(b, "# The band width is narrower than 0.1 x the shortest fold (%s m) so that\n"
                          "# every band keeps at least a quarter of its fold between its setbacks.\n",
                          real(r1, p->w_auto));
+    if (o->modes < 0 && p->modes > 1)
+        sf_outbuf_printf(b, "# K = %d shape modes: with K = %d the %d folds' %d coordinates would fall short of\n"
+                         "# the 6 loop rows of each of the %d interior vertices (%d rows).\n", p->modes,
+                         p->modes - 1, p->nfold, p->modes * p->nfold, p->ninterior, 6 * p->ninterior);
     sf_outbuf_printf(b, "defaults = {\n  width = %s;   # band width of every fold\n"
                      "  continuity = 1;\n  modes = %d;\n  material = \"fold\";\n};\n\n",
-                     real(r1, p->w), o->modes);
+                     real(r1, p->w), p->modes);
     if (p->ngroup) {
         sf_outbuf_printf(b, "# Actuation: the rest angle of each group's folds at actuation parameter 1.\n"
                          "actuation = (\n");

@@ -141,7 +141,9 @@ typedef struct sf_cp_study_opts {
                                  pattern gives none (> 0) */
     double fold_percent;      /* analysis.end = fold_percent / 100 (Origami
                                  Simulator's fold percent); <= 0: 100 */
-    int modes;                /* defaults.modes (1: degree-4 vertices lock with 0) */
+    int modes;                /* defaults.modes (1: degree-4 vertices lock with 0);
+                                 < 0: the smallest K >= 1 whose fold
+                                 coordinates match the loop rows (import) */
     int gravity;              /* add gravity (stage 1) */
     double load;              /* point load [N] downwards at the probe (0: none) */
     const char *drive;        /* actuation group driven by p (analysis.group), NULL: all */
