@@ -6,7 +6,7 @@
 # Output is TAP.
 src=${SF_SRCDIR:-$(dirname "$0")/..}
 . "$src/tests/tap.sh"
-echo "1..18"
+echo "1..20"
 for p in miura yoshimura waterbomb; do
     if "$bin" pattern $p --cells=2x3 -o "$tmp/$p.cfg" 2>"$tmp/err" &&
        "$bin" check "$tmp/$p.cfg" >"$tmp/out" 2>>"$tmp/err"; then ok "$p 2x3 passes check"
@@ -45,6 +45,22 @@ if "$bin" pattern yoshimura --set defaults.width=0.002 --set materials.fold.E=30
    grep -q "E = 3.04e7; .*# --set materials.fold.E=30.4e6" "$tmp/y.cfg" && "$bin" check "$tmp/y.cfg" >/dev/null 2>>"$tmp/err"; then
     ok "--set overrides written into the study"
 else nok "--set overrides written into the study"; sed 's/^/#   /' "$tmp/err"; fi
+# import's shape modes by the count of loop rows: a 2x2 Miura written as
+# FOLD (9 interior vertices of degree 4, 24 folds: 54 rows, 48 coordinates
+# with K = 1) gets K = 2 and the comment; a waterbomb base (one degree-6
+# vertex, 6 folds: 6 rows, 12 coordinates) keeps K = 1; --modes wins
+"$bin" pattern miura -o "$tmp/m.fold" 2>"$tmp/err" && "$bin" import "$tmp/m.fold" -o "$tmp/mi.cfg" >/dev/null 2>>"$tmp/err" &&
+    "$bin" import "$tmp/m.fold" --modes=1 -o "$tmp/mi1.cfg" >/dev/null 2>>"$tmp/err"
+if grep -q '^  modes = 2;' "$tmp/mi.cfg" &&
+   grep -q '^# K = 2 shape modes: with K = 1 the 24 folds. 48 coordinates would fall short of$' "$tmp/mi.cfg" &&
+   grep -q '^# the 6 loop rows of each of the 9 interior vertices (54 rows)' "$tmp/mi.cfg" &&
+   grep -q '^  modes = 1;' "$tmp/mi1.cfg" && ! grep -q '^# K = ' "$tmp/mi1.cfg"; then
+    ok "import of a 2x2 Miura: K = 2 (54 loop rows, 48 coordinates with K = 1); --modes=1 keeps 1"
+else nok "import of a 2x2 Miura: K = 2; --modes=1 keeps 1"; sed 's/^/#   /' "$tmp/err"; grep -n 'modes\|^# K' "$tmp/mi.cfg" | sed 's/^/#   /'; fi
+"$bin" pattern waterbomb --cells=1x1 -o "$tmp/w.fold" 2>"$tmp/err" && "$bin" import "$tmp/w.fold" -o "$tmp/wi.cfg" >/dev/null 2>>"$tmp/err"
+if grep -q '^  modes = 1;' "$tmp/wi.cfg" && ! grep -q '^# K = ' "$tmp/wi.cfg"; then
+    ok "import of a waterbomb base (one degree-6 vertex): K = 1"
+else nok "import of a waterbomb base: K = 1"; sed 's/^/#   /' "$tmp/err"; fi
 # errors: one line, non-zero, nothing written
 bad() {
     want=$1; shift
