@@ -171,29 +171,29 @@ static double fold_len(const plan *p, int k)
 }
 
 /* defaults.modes: the option's K, or (o->modes < 0, import's default) the
- * smallest K >= 1 whose fold coordinates, K + 1 a fold, are at least the
- * loop rows, 6 at each interior vertex (MODEL.md 4): a sheet of degree-4
- * vertices, about two folds a vertex, has 4 coordinates a vertex for 6 rows
- * with K = 1 and closes only where rows happen to be dependent, while a
- * sheet of degree-6 vertices keeps K = 1. */
-static void plan_modes(plan *p, const int *loop, int nl)
+ * smallest K >= 1, at most 3, whose fold coordinates, K + 1 a fold, are at
+ * least the loop rows, 6 at each interior vertex (MODEL.md 4): a sheet of
+ * degree-4 vertices, about two folds a vertex, has 4 coordinates a vertex
+ * for 6 rows with K = 1 and closes only where rows happen to be
+ * dependent, while a sheet of degree-6 vertices keeps K = 1. */
+static int plan_modes(plan *p, const int *loop, int nl, sf_error *err)
 {
     const sf_cpattern *cp = p->cp;
     char *mark = calloc((size_t)cp->nv + 1, 1);   /* 1 outline, 2 counted */
+    if (!mark) return sf_fail(err, SF_ENOMEM, "out of memory");
     p->ninterior = 0;
-    if (mark) {
-        for (int i = 0; i < nl; i++) mark[loop[i]] = 1;
-        for (int k = 0; k < p->nfold; k++)
-            for (int j = 0; j < 2; j++) {
-                int v = p->fold_end[k][j];
-                if (!mark[v]) mark[v] = 2, p->ninterior++;
-            }
-        free(mark);
-    }
+    for (int i = 0; i < nl; i++) mark[loop[i]] = 1;
+    for (int k = 0; k < p->nfold; k++)
+        for (int j = 0; j < 2; j++) {
+            int v = p->fold_end[k][j];
+            if (!mark[v]) mark[v] = 2, p->ninterior++;
+        }
+    free(mark);
     p->modes = p->o->modes;
-    if (p->modes >= 0) return;
+    if (p->modes >= 0) return SF_OK;
     p->modes = 1;
     while (p->modes < 3 && (p->modes + 1) * p->nfold < 6 * p->ninterior) p->modes++;
+    return SF_OK;
 }
 
 static int plan_make(plan *p, const sf_cpattern *cp, const sf_cp_study_opts *o, sf_error *err)
@@ -221,8 +221,10 @@ static int plan_make(plan *p, const sf_cpattern *cp, const sf_cp_study_opts *o, 
         free(loop); free(lastedge);
         return sf_fail(err, SF_ENOMEM, "out of memory");
     }
-    if (plan_folds(p, lastedge, err)) { free(loop); free(lastedge); return err->code; }
-    plan_modes(p, loop, nl);
+    if (plan_folds(p, lastedge, err) || plan_modes(p, loop, nl, err)) {
+        free(loop); free(lastedge);
+        return err->code;
+    }
     double lmin = INFINITY;
     for (int k = 0; k < p->nfold; k++) {
         lmin = fmin(lmin, fold_len(p, k));
