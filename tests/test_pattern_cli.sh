@@ -52,7 +52,7 @@ else nok "--set overrides written into the study"; sed 's/^/#   /' "$tmp/err"; f
 "$bin" pattern miura -o "$tmp/m.fold" 2>"$tmp/err" && "$bin" import "$tmp/m.fold" -o "$tmp/mi.cfg" >/dev/null 2>>"$tmp/err" &&
     "$bin" import "$tmp/m.fold" --modes=1 -o "$tmp/mi1.cfg" >/dev/null 2>>"$tmp/err"
 if grep -q '^  modes = 2;' "$tmp/mi.cfg" &&
-   grep -q '^# K = 2 shape modes: with K = 1 the 24 folds. 48 coordinates would fall short of$' "$tmp/mi.cfg" &&
+   grep -q '^# K = 2 shape modes: with K = 1 the 24 folds. 48 coordinates would not exceed$' "$tmp/mi.cfg" &&
    grep -q '^# the 6 loop rows of each of the 9 interior vertices (54 rows)' "$tmp/mi.cfg" &&
    grep -q '^  modes = 1;' "$tmp/mi1.cfg" && ! grep -q '^# K = ' "$tmp/mi1.cfg"; then
     ok "import of a 2x2 Miura: K = 2 (54 loop rows, 48 coordinates with K = 1); --modes=1 keeps 1"

@@ -171,11 +171,12 @@ static double fold_len(const plan *p, int k)
 }
 
 /* defaults.modes: the option's K, or (o->modes < 0, import's default) the
- * smallest K >= 1, at most 3, whose fold coordinates, K + 1 a fold, are at
- * least the loop rows, 6 at each interior vertex (MODEL.md 4): a sheet of
- * degree-4 vertices, about two folds a vertex, has 4 coordinates a vertex
- * for 6 rows with K = 1 and closes only where rows happen to be
- * dependent, while a sheet of degree-6 vertices keeps K = 1. */
+ * smallest K >= 1, at most 3, whose fold coordinates, K + 1 a fold,
+ * outnumber the loop rows, 6 at each interior vertex (MODEL.md 4), so that
+ * the count leaves the sheet a motion: a sheet of degree-4 vertices, about
+ * two folds a vertex, has 4 coordinates a vertex for 6 rows with K = 1 and
+ * closes only where rows happen to be dependent, while a sheet of
+ * degree-6 vertices keeps K = 1. */
 static int plan_modes(plan *p, const int *loop, int nl, sf_error *err)
 {
     const sf_cpattern *cp = p->cp;
@@ -192,7 +193,7 @@ static int plan_modes(plan *p, const int *loop, int nl, sf_error *err)
     p->modes = p->o->modes;
     if (p->modes >= 0) return SF_OK;
     p->modes = 1;
-    while (p->modes < 3 && (p->modes + 1) * p->nfold < 6 * p->ninterior) p->modes++;
+    while (p->modes < 3 && (p->modes + 1) * p->nfold <= 6 * p->ninterior) p->modes++;
     return SF_OK;
 }
 
@@ -372,7 +373,7 @@ static void emit(const plan *p, sf_outbuf *b, const char *name)
                          "# every band keeps at least a quarter of its fold between its setbacks.\n",
                          real(r1, p->w_auto));
     if (o->modes < 0 && p->modes > 1)
-        sf_outbuf_printf(b, "# K = %d shape modes: with K = %d the %d folds' %d coordinates would fall short of\n"
+        sf_outbuf_printf(b, "# K = %d shape modes: with K = %d the %d folds' %d coordinates would not exceed\n"
                          "# the 6 loop rows of each of the %d interior vertices (%d rows).\n", p->modes,
                          p->modes - 1, p->nfold, p->modes * p->nfold, p->ninterior, 6 * p->ninterior);
     sf_outbuf_printf(b, "defaults = {\n  width = %s;   # band width of every fold\n"
