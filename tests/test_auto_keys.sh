@@ -64,6 +64,13 @@ last_diff() {   # last_diff A B: the last rows of two branch.tsv files: p of eac
              de = x[c["energy"]] - y[c["energy"]]; de = de < 0 ? -de : de; s = y[c["energy"]]; s = s < 0 ? -s : s
              printf "%s %s %.3g %.3g %.3g", x[c["p"]], y[c["p"]], du, dt, de / s}' "$1" "$2" 2>/dev/null
 }
+against_poses() {   # against_poses NAME CFG [SETTING...]: the default run (exit a, keys k)
+    # and the explicit poses/sparse/rms run (exit b); d: last_diff of the two
+    n=$1; c=$2; shift 2
+    "$bin" run "$c" -q -o "$tmp/$n" "$@" >"$tmp/$n.out" 2>&1; a=$?
+    "$bin" run "$c" -q -o "$tmp/${n}p" "$@" $poses >"$tmp/${n}p.out" 2>&1; b=$?
+    k=$(keys "$tmp/$n"); d=$(last_diff "$tmp/$n/branch.tsv" "$tmp/${n}p/branch.tsv")
+}
 keys() {   # keys DIR: the three values recorded in DIR/study.cfg
     awk '/^ *(formulation|flat_start|step_norm) = / {gsub(/[";]/, ""); v[$1] = $3}
          END {print v["formulation"], v["flat_start"], v["step_norm"]}' "$1/study.cfg"
@@ -150,12 +157,7 @@ check $r "convergence: the K+1 run (126 unknowns, threshold 110) keeps folds/mul
 # 9: the 2x2 sheet under gravity and a tip load: the fold start follows
 # the end of its path and ends at the pose run's state
 sh "$src/bench/miura-study.sh" 2 load 1 >"$tmp/m2l.cfg"
-"$bin" run "$tmp/m2l.cfg" -q -o "$tmp/m2l" --set output.shapes=0 >"$tmp/m2l.out" 2>&1
-a=$?
-"$bin" run "$tmp/m2l.cfg" -q -o "$tmp/m2lp" --set output.shapes=0 $poses >"$tmp/m2lp.out" 2>&1
-b=$?
-k=$(keys "$tmp/m2l")
-d=$(last_diff "$tmp/m2l/branch.tsv" "$tmp/m2lp/branch.tsv")
+against_poses m2l "$tmp/m2l.cfg" --set output.shapes=0
 set -- $d
 r=0
 [ "$a" = 0 ] && [ "$b" = 0 ] && [ "$k" = "folds multipliers sum" ] && [ "$1" = 1 ] && [ "$2" = 1 ] &&
@@ -167,14 +169,7 @@ check $r "2x2 under gravity and a tip load: the fold start reaches p = $1 (exit 
 # start could not leave, at the sparse pose start's state
 "$bin" pattern miura --cells=3x2 --gravity --load=0.01 -o "$tmp/m32.gen.cfg" >/dev/null 2>&1
 sed 's/^\(  { name = "[a-z0-9]*"; rest_angle = \)-\{0,1\}[0-9.]*;/\10.0;/' "$tmp/m32.gen.cfg" >"$tmp/m32l.cfg"
-"$bin" run "$tmp/m32l.cfg" -q -o "$tmp/m32l" --set output.shapes=0 --set analysis.stability=false \
-    >"$tmp/m32l.out" 2>&1
-a=$?
-k=$(keys "$tmp/m32l")
-"$bin" run "$tmp/m32l.cfg" -q -o "$tmp/m32lp" --set output.shapes=0 --set analysis.stability=false \
-    $poses >"$tmp/m32lp.out" 2>&1
-b=$?
-d=$(last_diff "$tmp/m32l/branch.tsv" "$tmp/m32lp/branch.tsv")
+against_poses m32l "$tmp/m32l.cfg" --set output.shapes=0 --set analysis.stability=false
 set -- $d
 r=0
 [ "$a" = 0 ] && [ "$b" = 0 ] && [ "$k" = "folds multipliers sum" ] && [ "$1" = 2 ] && [ "$2" = 2 ] &&
